@@ -1,0 +1,468 @@
+"""The curve interface shared by every cam motion law.
+
+A curve is dimensionless: time T runs over [T0, T7] (0..1 for the standard curves),
+displacement S, velocity V = dS/dT, acceleration A, jerk J = d³S/dT³.
+Every curve is made of *pieces* on which it is smooth (analytic); between pieces A or J
+may jump. Evaluation at a break point takes the piece that starts there (right limit);
+at T7 it takes the last piece. This is the convention of the INDEXMAN tables and of
+Makino's subroutine CURVE.
+
+References
+----------
+.. [1] H. Makino, "Universal Cam Curve and Its Application" (1977), eqs. (1)-(12).
+.. [2] INDEXMAN technical guide, section 5 (cam curves, characteristic values).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .errors import NonMonotoneError, StrokeRangeError
+
+FloatArray = NDArray[np.float64]
+
+#: samples per piece used to bracket the roots of a derivative before refining them;
+#: every piece of every curve we build has at most a few extrema, far fewer than this.
+_BRACKET_SAMPLES = 257
+
+
+@dataclass(frozen=True)
+class CurveValues:
+    """Columns of a curve table, all dimensionless.
+
+    ``q`` is the catalog's torque coefficient A·V/Am; ``q_raw`` is Makino's A·V.
+    """
+
+    t: FloatArray
+    s: FloatArray
+    v: FloatArray
+    a: FloatArray
+    j: FloatArray
+    q: FloatArray
+    q_raw: FloatArray
+
+    def columns(self) -> dict[str, FloatArray]:
+        return {"t": self.t, "s": self.s, "v": self.v, "a": self.a, "j": self.j, "q": self.q}
+
+
+@dataclass(frozen=True)
+class Extremum:
+    """A peak value and the T where it first occurs."""
+
+    value: float
+    t: float
+
+
+@dataclass(frozen=True)
+class Characteristics:
+    """Characteristic values of a curve over [T0, T7], from its closed form.
+
+    ``vm`` is the largest |V|; ``am`` the largest |A| (the Am that normalises Q).
+    Negative extremes (``am_neg``, ``jm_neg``, ``qm_neg``) are signed (≤ 0 for the
+    standard curves), as Makino's AJKMM and QMM are.
+    """
+
+    vm: Extremum
+    v_max: Extremum
+    v_min: Extremum
+    am: float
+    am_pos: Extremum
+    am_neg: Extremum
+    jm_pos: Extremum
+    jm_neg: Extremum
+    qm_pos: Extremum
+    qm_neg: Extremum
+    qm_raw_pos: Extremum
+    qm_raw_neg: Extremum
+    s_max: Extremum
+    s_min: Extremum
+
+    def as_dict(self) -> dict[str, Any]:
+        out: dict[str, Any] = {"am": self.am}
+        for name in (
+            "vm", "v_max", "v_min", "am_pos", "am_neg", "jm_pos", "jm_neg",
+            "qm_pos", "qm_neg", "qm_raw_pos", "qm_raw_neg", "s_max", "s_min",
+        ):
+            ext: Extremum = getattr(self, name)
+            out[name] = ext.value
+            out[f"t_{name}"] = ext.t
+        return out
+
+
+@dataclass(frozen=True)
+class Piece:
+    """A smooth stretch [start, end] of a curve, by its index in the curve."""
+
+    index: int
+    start: float
+    end: float
+
+
+class Curve:
+    """Base class: a dimensionless cam motion curve made of smooth pieces.
+
+    Subclasses provide :attr:`piece_starts` (sorted start times of the non-empty
+    pieces, first = T0), :attr:`t_end` (T7) and :meth:`_eval_pieces`, which evaluates
+    S and its derivatives up to ``order`` (≤ 4) with the formulas of given pieces.
+    Outside [T0, T7] the curve continues as Makino's sections 0 and VIII: constant
+    S0/V0 before T0, constant velocity V7 after T7.
+    """
+
+    piece_starts: FloatArray
+    t_end: float
+
+    # ---------------------------------------------------------------- subclasses
+    def _eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
+        """Return [S, V, A, J, dJ/dT][: order + 1] of the given pieces at t."""
+        raise NotImplementedError
+
+    # ---------------------------------------------------------------- geometry
+    @property
+    def t_start(self) -> float:
+        return float(self.piece_starts[0])
+
+    @property
+    def n_pieces(self) -> int:
+        return len(self.piece_starts)
+
+    @cached_property
+    def pieces(self) -> list[Piece]:
+        ends = np.append(self.piece_starts[1:], self.t_end)
+        return [Piece(i, float(a), float(b)) for i, (a, b) in enumerate(zip(self.piece_starts, ends))]
+
+    @cached_property
+    def break_points(self) -> FloatArray:
+        """T0, the starts of the pieces, and T7."""
+        return np.append(self.piece_starts, self.t_end)
+
+    def piece_index(self, t: FloatArray) -> NDArray[np.intp]:
+        """Index of the piece whose formula applies at t (right limit; last piece at T7).
+
+        -1 means before T0, ``n_pieces`` after T7.
+        """
+        idx = np.searchsorted(self.piece_starts, t, side="right") - 1
+        idx = np.where(t >= self.t_end, self.n_pieces, idx)
+        return np.where(t == self.t_end, self.n_pieces - 1, idx).astype(np.intp)
+
+    @cached_property
+    def _ends(self) -> tuple[list[float], list[float]]:
+        """S, V at T0 (right limit) and at T7 (left limit)."""
+        t0 = np.array([self.t_start])
+        t7 = np.array([self.t_end])
+        first = self._eval_pieces(t0, np.array([0]), 1)
+        last = self._eval_pieces(t7, np.array([self.n_pieces - 1]), 1)
+        return [float(first[0][0]), float(first[1][0])], [float(last[0][0]), float(last[1][0])]
+
+    @property
+    def s_start(self) -> float:
+        return self._ends[0][0]
+
+    @property
+    def s_end(self) -> float:
+        return self._ends[1][0]
+
+    # ---------------------------------------------------------------- evaluation
+    def derivatives(self, t: ArrayLike, order: int = 3) -> list[FloatArray]:
+        """S and its derivatives up to ``order`` (0..4) at the times t.
+
+        Parameters
+        ----------
+        t : array_like
+            Dimensionless time T; any shape.
+        order : int
+            Highest derivative: 0 → [S], 3 → [S, V, A, J], 4 adds dJ/dT.
+        """
+        t_arr = np.asarray(t, dtype=np.float64)
+        flat = t_arr.reshape(-1)
+        idx = self.piece_index(flat)
+        out = [np.empty_like(flat) for _ in range(order + 1)]
+        inside = (idx >= 0) & (idx < self.n_pieces)
+        if inside.all():
+            vals = self._eval_pieces(flat, idx, order)
+            out = [np.asarray(v, dtype=np.float64) for v in vals]
+        else:
+            if inside.any():
+                vals = self._eval_pieces(flat[inside], idx[inside], order)
+                for o, v in zip(out, vals):
+                    o[inside] = v
+            (s0, v0), (s7, v7) = self._ends
+            before = idx < 0
+            after = idx >= self.n_pieces
+            if before.any():
+                out[0][before] = s0
+                if order >= 1:
+                    out[1][before] = v0
+            if after.any():
+                out[0][after] = s7 + v7 * (flat[after] - self.t_end)
+                if order >= 1:
+                    out[1][after] = v7
+            for o in out[2:]:
+                o[~inside] = 0.0
+        return [o.reshape(t_arr.shape) for o in out]
+
+    def evaluate(self, t: ArrayLike) -> CurveValues:
+        """S, V, A, J, Q at the times t (a table's columns)."""
+        t_arr = np.asarray(t, dtype=np.float64)
+        s, v, a, j = self.derivatives(t_arr, 3)
+        q_raw = a * v
+        am = self.characteristics.am
+        q = q_raw / am if am > 0 else np.zeros_like(q_raw)
+        return CurveValues(t=t_arr, s=s, v=v, a=a, j=j, q=q, q_raw=q_raw)
+
+    def sample_times(self, samples: int) -> FloatArray:
+        """``samples`` evenly spaced times over [T0, T7], both ends included."""
+        return np.linspace(self.t_start, self.t_end, samples)
+
+    def table(self, samples: int) -> CurveValues:
+        return self.evaluate(self.sample_times(samples))
+
+    # ---------------------------------------------------------------- extrema
+    def _piece_extrema(self, k: int, sign: float) -> tuple[FloatArray, FloatArray]:
+        """Candidate times and values (rows S, V, A, J, AV) of the extrema on piece k.
+
+        Candidates are the piece's two ends (one-sided limits) and the interior roots
+        of each quantity's derivative, bracketed on a fine grid and refined by
+        bisection to machine precision.
+        """
+        piece = self.pieces[k]
+        a, b = piece.start, piece.end
+        grid = np.linspace(a, b, _BRACKET_SAMPLES)
+        kk = np.full(grid.shape, k, dtype=np.intp)
+        s, v, acc, j, dj = self._eval_pieces(grid, kk, 4)
+        derivs = {0: v, 1: acc, 2: j, 3: dj, 4: j * v + acc * acc}
+        times = [np.array([a, b])]
+        for q, d in derivs.items():
+            d = np.asarray(d, dtype=np.float64)
+            change = np.nonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0)[0]
+            if change.size:
+                times.append(self._refine_roots(k, q, grid[change], grid[change + 1]))
+            zeros = np.nonzero(d == 0.0)[0]
+            if zeros.size and zeros.size < grid.size:
+                times.append(grid[zeros])
+        t_all = np.unique(np.concatenate(times))
+        kk = np.full(t_all.shape, k, dtype=np.intp)
+        s, v, acc, j = self._eval_pieces(t_all, kk, 3)
+        vals = np.vstack([s, v, acc, j, acc * v])
+        return t_all, vals
+
+    def _refine_roots(self, k: int, quantity: int, lo: FloatArray, hi: FloatArray) -> FloatArray:
+        """Bisect the derivative of ``quantity`` (0 S, 1 V, 2 A, 3 J, 4 A·V) to a root."""
+        lo = lo.copy()
+        hi = hi.copy()
+        kk = np.full(lo.shape, k, dtype=np.intp)
+
+        def deriv(t: FloatArray) -> FloatArray:
+            s, v, a, j, dj = self._eval_pieces(t, kk, 4)
+            return np.asarray([v, a, j, dj, j * v + a * a][quantity], dtype=np.float64)
+
+        f_lo = deriv(lo)
+        for _ in range(80):
+            mid = 0.5 * (lo + hi)
+            if np.all((mid <= lo) | (mid >= hi)):
+                break
+            f_mid = deriv(mid)
+            same = np.sign(f_mid) == np.sign(f_lo)
+            lo = np.where(same, mid, lo)
+            f_lo = np.where(same, f_mid, f_lo)
+            hi = np.where(same, hi, mid)
+        return 0.5 * (lo + hi)
+
+    @cached_property
+    def characteristics(self) -> Characteristics:
+        """Exact characteristic values over [T0, T7] (section-wise extrema)."""
+        ts, vals = [], []
+        for k in range(self.n_pieces):
+            t_k, v_k = self._piece_extrema(k, 1.0)
+            ts.append(t_k)
+            vals.append(v_k)
+        t_all = np.concatenate(ts)
+        v_all = np.hstack(vals)
+        # ties: the earliest T wins (np.argmax/argmin return the first occurrence)
+        order = np.argsort(t_all, kind="stable")
+        t_all = t_all[order]
+        v_all = v_all[:, order]
+
+        def ext(row: int, use_max: bool) -> Extremum:
+            data = v_all[row]
+            i = int(np.argmax(data) if use_max else np.argmin(data))
+            return Extremum(float(data[i]), float(t_all[i]))
+
+        v_max, v_min = ext(1, True), ext(1, False)
+        vm = v_max if abs(v_max.value) >= abs(v_min.value) else v_min
+        am_pos, am_neg = ext(2, True), ext(2, False)
+        am = max(abs(am_pos.value), abs(am_neg.value))
+        q_pos, q_neg = ext(4, True), ext(4, False)
+        scale = 1.0 / am if am > 0 else 0.0
+        return Characteristics(
+            vm=Extremum(abs(vm.value), vm.t),
+            v_max=v_max,
+            v_min=v_min,
+            am=am,
+            am_pos=am_pos,
+            am_neg=am_neg,
+            jm_pos=ext(3, True),
+            jm_neg=ext(3, False),
+            qm_pos=Extremum(q_pos.value * scale, q_pos.t),
+            qm_neg=Extremum(q_neg.value * scale, q_neg.t),
+            qm_raw_pos=q_pos,
+            qm_raw_neg=q_neg,
+            s_max=ext(0, True),
+            s_min=ext(0, False),
+        )
+
+    # ---------------------------------------------------------------- inverse
+    @cached_property
+    def monotone_direction(self) -> int:
+        """+1 if S never decreases over [T0, T7], -1 if it never increases, 0 otherwise."""
+        ch = self.characteristics
+        # V may dip below zero by rounding at a dwell end; 1e-12 of the peak is rounding.
+        slack = 1e-12 * max(ch.vm.value, 1.0)
+        if self.s_end >= self.s_start and ch.v_min.value >= -slack:
+            return 1
+        if self.s_end <= self.s_start and ch.v_max.value <= slack:
+            return -1
+        return 0
+
+    def _require_monotone(self) -> int:
+        direction = self.monotone_direction
+        if direction == 0 or self.s_end == self.s_start:
+            raise NonMonotoneError(
+                "This curve's displacement S is not monotone over its stroke, so S does "
+                "not determine T; an inverse lookup needs a curve that only rises or only falls."
+            )
+        return direction
+
+    def _check_stroke(self, s: FloatArray) -> None:
+        lo, hi = sorted((self.s_start, self.s_end))
+        bad = ~np.isfinite(s) | (s < lo) | (s > hi)
+        if bad.any():
+            i = int(np.nonzero(bad)[0][0])
+            raise StrokeRangeError(
+                f"s[{i}] = {float(s.reshape(-1)[i])!r} is outside the stroke of this curve, "
+                f"which runs from S = {self.s_start!r} to S = {self.s_end!r}."
+            )
+
+    @cached_property
+    def _inverse_nodes(self) -> tuple[FloatArray, FloatArray]:
+        """Times and S at the break points and a fine grid: brackets for the inverse."""
+        grid = np.linspace(self.t_start, self.t_end, 1025)
+        t_nodes = np.unique(np.concatenate([grid, self.break_points]))
+        s_nodes = self.derivatives(t_nodes, 0)[0]
+        return t_nodes, s_nodes
+
+    def inverse(self, s: ArrayLike) -> FloatArray:
+        """Exact inverse: for each displacement s, the first T in [T0, T7] with S(T) = s.
+
+        Safeguarded Newton iteration on the closed form, vectorised over s, inside a
+        bracket from a table of S at the break points and a 1/1024 grid; it stops when
+        the bracket or the Newton step reaches the spacing of floating-point numbers.
+        Raises :class:`NonMonotoneError` for a curve that is not monotone and
+        :class:`StrokeRangeError` for s outside the stroke.
+        """
+        direction = self._require_monotone()
+        s_arr = np.asarray(s, dtype=np.float64)
+        target = s_arr.reshape(-1)
+        self._check_stroke(target)
+        t_nodes, s_nodes = self._inverse_nodes
+        key = s_nodes * direction
+        goal = target * direction
+        # first node whose S reaches the target: bracket (node-1, node]
+        k = np.searchsorted(key, goal, side="left")
+        k = np.clip(k, 1, len(t_nodes) - 1)
+        lo = t_nodes[k - 1].copy()
+        hi = t_nodes[k].copy()
+        f_lo = key[k - 1] - goal
+        f_hi = key[k] - goal
+        exact_lo = f_lo >= 0  # target at or below the bracket start: the start is the answer
+        span = np.where(f_hi > f_lo, f_hi - f_lo, 1.0)
+        t = np.where(exact_lo, lo, lo + (hi - lo) * np.clip(-f_lo / span, 0.0, 1.0))
+        active = ~exact_lo & (f_hi != 0)
+        t = np.where(f_hi == 0, np.where(exact_lo, lo, hi), t)
+        for _ in range(100):
+            if not active.any():
+                break
+            ia = np.nonzero(active)[0]
+            ta = t[ia]
+            sv = self.derivatives(ta, 1)
+            f = sv[0] * direction - goal[ia]
+            dfdt = sv[1] * direction
+            done = f == 0
+            # shrink the bracket around the root
+            lo_a = np.where(f < 0, ta, lo[ia])
+            hi_a = np.where(f > 0, ta, hi[ia])
+            with np.errstate(divide="ignore", invalid="ignore"):
+                newton = ta - f / dfdt
+            ok = np.isfinite(newton) & (newton > lo_a) & (newton < hi_a)
+            t_new = np.where(ok, newton, 0.5 * (lo_a + hi_a))
+            step = np.abs(t_new - ta)
+            tiny = 4 * np.spacing(np.maximum(np.abs(ta), 1.0))
+            done |= (step <= tiny) | (hi_a - lo_a <= tiny)
+            t[ia] = np.where(f == 0, ta, t_new)
+            lo[ia] = lo_a
+            hi[ia] = hi_a
+            active[ia[done]] = False
+        return t.reshape(s_arr.shape)
+
+    def inverse_table(self, s: ArrayLike, step: float, decimals: int | None = None) -> CurveValues:
+        """The catalog's method: proportional interpolation between rows of a table.
+
+        Builds the table T = T0, T0 + step, …, T7 (the last row at T7), optionally
+        rounded to ``decimals`` as printed in a catalog, finds the rows whose S bracket
+        each s and interpolates T, V and A linearly between them.
+
+        References
+        ----------
+        INDEXMAN technical guide, worked example before the characteristic-value table:
+        S = 0.1833 between rows T = 0.30 and 0.31 of the MS table gives T = 0.304,
+        V = 1.339.
+        """
+        direction = self._require_monotone()
+        s_arr = np.asarray(s, dtype=np.float64)
+        target = s_arr.reshape(-1)
+        self._check_stroke(target)
+        n = int(np.floor((self.t_end - self.t_start) / step + 1e-9))
+        t_rows = self.t_start + step * np.arange(n + 1)
+        if t_rows[-1] < self.t_end - 1e-12 * step:
+            t_rows = np.append(t_rows, self.t_end)
+        else:
+            t_rows[-1] = self.t_end
+        rows = self.evaluate(t_rows)
+        cols = [rows.t, rows.s, rows.v, rows.a, rows.j, rows.q, rows.q_raw]
+        if decimals is not None:
+            cols = [np.round(c, decimals) for c in cols]
+        t_r, s_r, v_r, a_r, j_r, q_r, qr_r = cols
+        key = s_r * direction
+        goal = target * direction
+        k = np.clip(np.searchsorted(key, goal, side="left"), 1, len(key) - 1)
+        ds = key[k] - key[k - 1]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            frac = np.where(ds > 0, (goal - key[k - 1]) / ds, 0.0)
+        frac = np.clip(frac, 0.0, 1.0)
+        # a target at or below the first row's S sits on that row
+        frac = np.where(goal <= key[0], 0.0, frac)
+
+        def lerp(c: FloatArray) -> FloatArray:
+            return (c[k - 1] + (c[k] - c[k - 1]) * frac).reshape(s_arr.shape)
+
+        return CurveValues(
+            t=lerp(t_r), s=s_arr, v=lerp(v_r), a=lerp(a_r), j=lerp(j_r), q=lerp(q_r), q_raw=lerp(qr_r)
+        )
+
+
+@dataclass(frozen=True)
+class Scale:
+    """How a user curve's dimensionless T, S map back to its own units.
+
+    theta = theta_start + theta_span · T;  h = h_min + h_span · S.
+    """
+
+    theta_start: float
+    theta_span: float
+    h_min: float
+    h_span: float
+    units: dict[str, str] = field(default_factory=dict)

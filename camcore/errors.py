@@ -1,0 +1,60 @@
+"""Errors raised by camcore.
+
+One base class, small subclasses, each with a one-line docstring. The service maps
+these types to HTTP status codes in one table; the core never knows about HTTP.
+Messages are sentences a machine designer understands.
+"""
+
+from __future__ import annotations
+
+
+class CamError(Exception):
+    """Base class of every error camcore raises on purpose."""
+
+
+class InvalidParameterError(CamError, ValueError):
+    """A parameter is outside its range of validity."""
+
+
+class InvalidBreakPointsError(InvalidParameterError):
+    """The universal curve's break points T0..T7 are not in order or not finite."""
+
+
+class StrokeClosureError(InvalidParameterError):
+    """No acceleration amplitude or ratio m closes the stroke with the given ends."""
+
+
+class StrokeRangeError(InvalidParameterError):
+    """A displacement S asked of an inverse lookup lies outside the curve's stroke."""
+
+
+class NonMonotoneError(InvalidParameterError):
+    """The operation needs a monotone displacement and the curve or data are not."""
+
+
+class DegenerateCurveError(InvalidParameterError):
+    """User control points or measured points do not define a usable lift curve."""
+
+
+class UnknownCurveError(CamError, LookupError):
+    """No curve in the catalog has this name, alias or Makino number."""
+
+    def __init__(self, name: str, suggestions: list[str]):
+        self.name = name
+        self.suggestions = suggestions
+        hint = f" Did you mean: {', '.join(suggestions)}?" if suggestions else ""
+        super().__init__(f"No curve named '{name}' in the catalog.{hint}")
+
+
+class GeometryError(InvalidParameterError):
+    """A cam or follower geometry that cannot be assembled or cannot run."""
+
+
+class LimitExceededError(CamError):
+    """The requested work is larger than a configured limit."""
+
+    def __init__(self, what: str, requested: int, limit: int):
+        self.what = what
+        self.requested = requested
+        self.limit = limit
+        super().__init__(f"{what} is {requested}, over the limit of {limit}.")

@@ -1,0 +1,92 @@
+"""Polynomial motion laws: S(T) = Σ c_k T^k on [0, 1].
+
+Named laws: constant velocity (S = T), 3-4-5 (S = 10T³ − 15T⁴ + 6T⁵) and 4-5-6-7
+(S = 35T⁴ − 84T⁵ + 70T⁶ − 20T⁷), and the law of least degree meeting any boundary
+conditions on S, V, A, J at T = 0 and T = 1 (confluent Hermite interpolation).
+
+References
+----------
+H. Makino, 自動機械機構学 (1976) — polynomial cam curves; R. L. Norton, Cam Design and
+Manufacturing Handbook, ch. 3 (the 3-4-5 and 4-5-6-7 polynomials).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+from numpy.polynomial import Polynomial
+from numpy.typing import NDArray
+
+from .curve import Curve, FloatArray
+from .errors import InvalidParameterError
+
+NAMED_POLYNOMIALS: dict[str, tuple[float, ...]] = {
+    "constant-velocity": (0.0, 1.0),
+    "3-4-5": (0.0, 0.0, 0.0, 10.0, -15.0, 6.0),
+    "4-5-6-7": (0.0, 0.0, 0.0, 0.0, 35.0, -84.0, 70.0, -20.0),
+}
+
+_ORDER_KEYS = ("s", "v", "a", "j")
+
+
+class PolynomialCurve(Curve):
+    """S(T) = Σ c_k T^k on [0, 1], one smooth piece.
+
+    Parameters
+    ----------
+    coefficients : sequence of float
+        c_0, c_1, … in increasing powers of T.
+    """
+
+    def __init__(self, coefficients: Sequence[float]):
+        coef = np.asarray(coefficients, dtype=np.float64)
+        if coef.size == 0 or not np.all(np.isfinite(coef)):
+            raise InvalidParameterError("polynomial coefficients must be finite numbers.")
+        self.coefficients = coef
+        self._polys = [Polynomial(coef)]
+        for _ in range(4):
+            self._polys.append(self._polys[-1].deriv())
+        self.piece_starts = np.array([0.0])
+        self.t_end = 1.0
+
+    def _eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
+        return [np.asarray(self._polys[k](t), dtype=np.float64) for k in range(order + 1)]
+
+
+def named_polynomial(name: str) -> PolynomialCurve:
+    return PolynomialCurve(NAMED_POLYNOMIALS[name])
+
+
+def polynomial_from_boundary(start: Mapping[str, float | None], end: Mapping[str, float | None]) -> PolynomialCurve:
+    """The polynomial of least degree meeting the given end conditions.
+
+    Parameters
+    ----------
+    start, end : mapping
+        Values of ``s`` (required), ``v``, ``a``, ``j`` at T = 0 and T = 1; a missing
+        or None entry is free. The degree is the number of conditions minus one.
+    """
+    rows: list[NDArray[np.float64]] = []
+    rhs: list[float] = []
+    for where, cond in ((0.0, start), (1.0, end)):
+        if cond.get("s") is None:
+            raise InvalidParameterError("a polynomial law needs S at both ends.")
+        for order, key in enumerate(_ORDER_KEYS):
+            value = cond.get(key)
+            if value is None:
+                continue
+            if not math.isfinite(float(value)):
+                raise InvalidParameterError(f"boundary {key} at T = {where:g} must be finite.")
+            rows.append(np.array([order, where]))
+            rhs.append(float(value))
+    n = len(rhs)
+    matrix = np.zeros((n, n))
+    for i, (order, where) in enumerate(rows):
+        order = int(order)
+        for k in range(order, n):
+            # d^order/dT^order of T^k at T = where
+            matrix[i, k] = math.perm(k, order) * (where ** (k - order) if k > order else 1.0)
+    coef = np.linalg.solve(matrix, np.array(rhs))
+    return PolynomialCurve(coef)

@@ -1,0 +1,382 @@
+"""Makino's universal cam curve and the curves of his subroutine CURVE.
+
+Eight break points T0 ≤ T1 ≤ … ≤ T7 cut the stroke into sections of quarter-sine,
+constant and zero acceleration (Makino 1977, fig. 1, eqs. (1)-(9)):
+
+    I    [T0, T1)  A = Amp·sin(π(T−T0) / 2(T1−T0))
+    II   [T1, T2)  A = Amp
+    III  [T2, T3)  A = Amp·cos(π(T−T2) / 2(T3−T2))
+    IV   [T3, T4)  A = 0
+    V    [T4, T5)  A = −Amm·sin(π(T−T4) / 2(T5−T4))
+    VI   [T5, T6)  A = −Amm
+    VII  [T6, T7)  A = −Amm·cos(π(T−T6) / 2(T7−T6))
+
+with m = Amm/Amp (eq. 10) and Amp from eq. (11). When m is not given the curve is
+closed in both displacement (S7) and velocity (V7); for V7 = V0 this is Makino's
+equal-area rule RATIO = (C1+C2+C3)/(C5+C6+C7) (Fortran line 86).
+
+References
+----------
+H. Makino, "Universal Cam Curve and Its Application" (1977), eqs. (1)-(16),
+appendix 1 (subroutine CURVE), table 2.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from .errors import InvalidBreakPointsError, InvalidParameterError, StrokeClosureError
+from .sections import Section, SectionCurve
+
+PI = math.pi
+
+
+def _check_finite(name: str, value: float) -> float:
+    value = float(value)
+    if not math.isfinite(value):
+        raise InvalidParameterError(f"{name} must be a finite number, not {value!r}.")
+    return value
+
+
+def check_break_points(t: Sequence[float]) -> tuple[float, ...]:
+    """Validate eight break points T0..T7 and return them as floats."""
+    if len(t) != 8:
+        raise InvalidBreakPointsError(f"the universal curve needs 8 break points T0..T7, got {len(t)}.")
+    pts = tuple(float(x) for x in t)
+    for i, x in enumerate(pts):
+        if not math.isfinite(x):
+            raise InvalidBreakPointsError(f"break point T{i} must be a finite number, not {x!r}.")
+    for i in range(7):
+        if pts[i + 1] < pts[i]:
+            raise InvalidBreakPointsError(
+                f"break points must satisfy T0 ≤ T1 ≤ … ≤ T7, but T{i + 1} = {pts[i + 1]!r} "
+                f"is less than T{i} = {pts[i]!r}."
+            )
+    if not pts[7] > pts[0]:
+        raise InvalidBreakPointsError("the curve needs T7 > T0 (a stroke of positive duration).")
+    return pts
+
+
+def _section_constants(t: tuple[float, ...]) -> tuple[float, ...]:
+    """Makino's C1..C7 (lines 76-82 of CURVE)."""
+    t0, t1, t2, t3, t4, t5, t6, t7 = t
+    return (
+        2 * (t1 - t0) / PI,
+        t2 - t1,
+        2 * (t3 - t2) / PI,
+        t4 - t3,
+        2 * (t5 - t4) / PI,
+        t6 - t5,
+        2 * (t7 - t6) / PI,
+    )
+
+
+def _stroke_per_amplitude(t: tuple[float, ...]) -> tuple[float, float, float, float]:
+    """Displacement and velocity gained per unit Amp and lost per unit Amm.
+
+    Returns (P, N, Cp, Cn): S7 − S0 − V0(T7−T0) = Amp·P − Amm·N   (eq. 11)
+                            V7 − V0             = Amp·Cp − Amm·Cn (eqs. 2-8)
+    """
+    t0, _t1, t2, t3, t4, t5, t6, t7 = t
+    c1, c2, c3, _c4, c5, c6, c7 = _section_constants(t)
+    p = c3 * c3 + 0.5 * c2 * c2 - c1 * c1 + c3 * (t7 - t3) + c2 * (t7 - t2) + c1 * (t7 - t0)
+    n = c7 * c7 + 0.5 * c6 * c6 - c5 * c5 + c6 * (t7 - t6) + c5 * (t7 - t4)
+    return p, n, c1 + c2 + c3, c5 + c6 + c7
+
+
+class UniversalCurve(SectionCurve):
+    """Makino's universal cam curve with known amplitudes.
+
+    Build it with :func:`universal_curve` (which solves eq. (11)) or directly from
+    amplitudes, as Makino's special curve 2 does.
+
+    Parameters
+    ----------
+    t : sequence of 8 floats
+        Break points T0..T7 [dimensionless time].
+    amp, amm : float
+        Positive peak acceleration Amp and negative peak magnitude Amm.
+    v0, s0 : float
+        Velocity and displacement at T0.
+    """
+
+    def __init__(self, t: Sequence[float], amp: float, amm: float, v0: float = 0.0, s0: float = 0.0):
+        pts = check_break_points(t)
+        self.t = pts
+        self.amp = float(amp)
+        self.amm = float(amm)
+        self.v0 = float(v0)
+        self.s0 = float(s0)
+        t0, t1, t2, t3, t4, t5, t6, t7 = pts
+
+        def quarter(start: float, end: float, beta: float = 0.0, gamma: float = 0.0) -> Section:
+            length = end - start
+            return Section(start, length, beta=beta, gamma=gamma, omega=PI / (2 * length) if length > 0 else 0.0)
+
+        sections = [
+            quarter(t0, t1, beta=self.amp),
+            Section(t1, t2 - t1, alpha=self.amp),
+            quarter(t2, t3, gamma=self.amp),
+            Section(t3, t4 - t3),
+            quarter(t4, t5, beta=-self.amm),
+            Section(t5, t6 - t5, alpha=-self.amm),
+            quarter(t6, t7, gamma=-self.amm),
+        ]
+        super().__init__(sections, s0=self.s0, v0=self.v0)
+
+    @property
+    def m(self) -> float:
+        """Ratio Amm/Amp (infinite when Amp = 0)."""
+        return self.amm / self.amp if self.amp != 0 else math.inf
+
+    @property
+    def s7(self) -> float:
+        return self.s_end
+
+    @property
+    def v7(self) -> float:
+        return self._ends[1][1]
+
+
+def universal_curve(
+    t: Sequence[float],
+    *,
+    m: float | None = None,
+    v0: float = 0.0,
+    v7: float | None = None,
+    s0: float = 0.0,
+    s7: float = 1.0,
+) -> UniversalCurve:
+    """Makino's universal cam curve from break points and end conditions.
+
+    Parameters
+    ----------
+    t : sequence of 8 floats
+        Break points T0 ≤ … ≤ T7 [dimensionless time].
+    m : float, optional
+        Ratio Amm/Amp. Given, Amp follows from eq. (11) and V7 is whatever results.
+        Omitted, Amp and Amm are solved so that the curve ends at both S7 and V7.
+    v0, v7 : float
+        Velocity at T0 and (when m is omitted) at T7; v7 defaults to v0, which is
+        Makino's equal-area rule (Fortran line 86).
+    s0, s7 : float
+        Displacement at T0 and at T7.
+
+    Raises
+    ------
+    InvalidBreakPointsError
+        Break points out of order or not finite.
+    StrokeClosureError
+        No amplitude reaches S7 (and V7) with these break points.
+    """
+    pts = check_break_points(t)
+    v0 = _check_finite("V0", v0)
+    s0 = _check_finite("S0", s0)
+    s7 = _check_finite("S7", s7)
+    p, n, cp, cn = _stroke_per_amplitude(pts)
+    rise = s7 - s0 - v0 * (pts[7] - pts[0])
+    scale = max(abs(p), abs(n), abs(cp), abs(cn), 1e-300)
+    if m is not None:
+        if v7 is not None:
+            raise InvalidParameterError("give either m or V7, not both: with m fixed, V7 is a result.")
+        m = _check_finite("m", m)
+        denominator = p - m * n
+        if abs(denominator) <= 1e-12 * scale:
+            raise StrokeClosureError(
+                f"with these break points and m = {m!r} the acceleration sections move the "
+                "follower no net distance, so no Amp reaches S7 (eq. 11 divides by zero)."
+            )
+        amp = rise / denominator
+        return UniversalCurve(pts, amp, m * amp, v0=v0, s0=s0)
+    v7 = v0 if v7 is None else _check_finite("V7", v7)
+    dv = v7 - v0
+    det = -p * cn + n * cp
+    if abs(det) <= 1e-12 * scale * scale:
+        if cn == 0 and cp > 0 and dv == 0:
+            raise StrokeClosureError(
+                "the break points leave no deceleration section (T4 = T7), so no ratio m "
+                "can bring the velocity back to V7 = V0; give m, or widen T4..T7."
+            )
+        raise StrokeClosureError(
+            "these break points cannot reach both S7 and V7: the acceleration and "
+            "deceleration sections are not independent (give m instead of V7)."
+        )
+    amp = (-rise * cn + n * dv) / det
+    amm = (p * dv - cp * rise) / det
+    return UniversalCurve(pts, amp, amm, v0=v0, s0=s0)
+
+
+# --------------------------------------------------------------------------- special curves
+def rapid_feed(z: float) -> UniversalCurve:
+    """Makino curve 1: cutting-unit rapid feed, accelerating and decelerating 1 : z.
+
+    T3 = 1/(1+z), T1 = T2 = T3/4, T4 = T3, T5 = T6 = (3+T3)/4, m = 1 (eqs. 15-16,
+    CURVE lines 30-41). The end velocity V7 = (1 − z)·V3 is a result.
+
+    Parameters
+    ----------
+    z : float
+        Deceleration period over acceleration period, 0 < z ≤ 1 [-].
+    """
+    z = _check_finite("z", z)
+    if not 0 < z <= 1:
+        raise InvalidParameterError(f"z must satisfy 0 < z ≤ 1 (the feed decelerates to (1 − z)·Vm), got {z!r}.")
+    t3 = 1.0 / (1.0 + z)
+    t1 = t3 / 4.0
+    t5 = (3.0 + t3) / 4.0
+    return universal_curve((0.0, t1, t1, t3, t3, t5, t5, 1.0), m=1.0)
+
+
+def cutting_feed(t4: float) -> UniversalCurve:
+    """Makino curve 2: cutting feed, constant velocity V0 then a quarter-sine stop.
+
+    T1 = T2 = T3 = 0, T5 = T6 = T7 = 1; Amp = 0,
+    Amm = π / (4(1−T4)²/π + 2(1−T4)T4), V0 = 2(1−T4)·Amm/π (CURVE lines 42-55).
+
+    Parameters
+    ----------
+    t4 : float
+        End of the constant-velocity stretch, 0 ≤ T4 < 1 [-].
+    """
+    t4 = _check_finite("T4", t4)
+    if not 0 <= t4 < 1:
+        raise InvalidParameterError(f"T4 must satisfy 0 ≤ T4 < 1, got {t4!r}.")
+    amm = PI / (4.0 * (1.0 - t4) ** 2 / PI + 2.0 * (1.0 - t4) * t4)
+    v0 = 2.0 * (1.0 - t4) * amm / PI
+    return UniversalCurve((0.0, 0.0, 0.0, 0.0, t4, 1.0, 1.0, 1.0), amp=0.0, amm=amm, v0=v0)
+
+
+def modified_constant_velocity(t1: float, t3: float) -> UniversalCurve:
+    """Makino curve 4: non-standard modified constant velocity.
+
+    T2 = T1, T4 = 1 − T3, T5 = T6 = 1 − T1; m from equal areas (CURVE lines 56-65).
+    Curve 27 (MCV50) is T1 = 1/16, T3 = 1/4; the catalog's MCV25 is T1 = 3/32, T3 = 3/8.
+
+    Parameters
+    ----------
+    t1 : float
+        End of the first quarter-sine, 0 < T1 ≤ T3 [-].
+    t3 : float
+        Start of the constant velocity, T3 ≤ 0.5 [-].
+    """
+    t1 = _check_finite("T1", t1)
+    t3 = _check_finite("T3", t3)
+    if not 0 < t1 <= t3 <= 0.5:
+        raise InvalidParameterError(f"curve 4 needs 0 < T1 ≤ T3 ≤ 0.5, got T1 = {t1!r}, T3 = {t3!r}.")
+    return universal_curve((0.0, t1, t1, t3, 1.0 - t3, 1.0 - t1, 1.0 - t1, 1.0))
+
+
+def trapecloid_2(t1: float = 0.125) -> UniversalCurve:
+    """Makino curve 36: trapecloid II (eq. 13).
+
+    T2 = (2 − 6T1 + πT1)/(2 + π), T3 = T4 = T2 + T1, T5 = T6 = 1 − T1, T7 = 1.
+    The OCR of eq. (13) reads T6 = T3, which puts T6 before T5; T6 = T5 (section VI
+    empty) is the reading that gives the printed eq. (14) values Vm = 1.85,
+    Am = 5.22, Jm = 65.6, Qmp = 7.75, Qmm = −5.34 (checked in the tests). The T2
+    formula makes Amp = Amm, whatever T5 is, as long as section VI is empty.
+    """
+    t2 = (2 - 6 * t1 + PI * t1) / (2 + PI)
+    t3 = t2 + t1
+    return universal_curve((0.0, t1, t2, t3, t3, 1 - t1, 1 - t1, 1.0))
+
+
+# --------------------------------------------------------------------------- table 2
+#: Open break points of table 2, each from the curve's defining condition with
+#: V7 = V0 (equal areas: Amp·(C1+C2+C3) = Amm·(C5+C6+C7)) and the stated m.
+#: 35 (trapecloid, m = 1), T = (0, 1/8, A, A+1/8, A+1/8, A+1/4, A+1/4, 1):
+#:     A − 1/8 + 1/(2π) = (7/4 − 2A)/π  →  A = (10 + π) / (8(2 + π)) = 0.30171…,
+#:     the catalog's Tb = (2 − 6Ta + πTa)/(2 + π) with Ta = 1/8 (INDEXMAN TR).
+TRAPECLOID_A = (10 + PI) / (8 * (2 + PI))
+#: 45 (one-dwell modified trapezoid, m = 1), T = (0, 1/8, B, B+1/8, B+1/8, B+1/4, 1, 1):
+#:     B − 1/8 + 1/(2π) = 1/(4π) + 3/4 − B  →  B = 7/16 − 1/(8π) = 0.39771…
+ONE_DWELL_MT_B = 7 / 16 - 1 / (8 * PI)
+#: 47 (one-dwell modified trapezoid, m = 2/3), T = (0, 1/8, C, C+1/8, C+1/8, C+5/24, 1, 1):
+#:     C − 1/8 + 1/(2π) = (2/3)(1/(6π) + 19/24 − C)  →  C = 47/120 − 7/(30π) = 0.31738…
+ONE_DWELL_MT_C = 47 / 120 - 7 / (30 * PI)
+#: 49 (one-dwell trapecloid, T1 = 1/8, m = 1 as every trapecloid),
+#:     T = (0, 1/8, D, D+1/8, D+1/8, 1, 1, 1): C5 = 2(7/8 − D)/π gives the same
+#:     equation as curve 35, so D = A.
+ONE_DWELL_TR_D = TRAPECLOID_A
+
+#: Makino table-2 break points T0..T7 (T0 = 0, T7 = 1). m is the stated ratio; None
+#: means m comes from equal areas (V7 = V0). Source: MISSION.md table quoting Makino's
+#: characteristic table, open values derived above.
+MAKINO_BREAK_POINTS: dict[int, tuple[tuple[float, ...], float | None]] = {
+    11: ((0, 0, 0.5, 0.5, 0.5, 0.5, 1, 1), None),
+    12: ((0, 0, 0, 0.5, 0.5, 1, 1, 1), None),
+    22: ((0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1), None),
+    25: ((0, 0.125, 0.375, 0.5, 0.5, 0.625, 0.875, 1), None),
+    26: ((0, 0.125, 0.125, 0.5, 0.5, 0.875, 0.875, 1), None),
+    27: ((0, 1 / 16, 1 / 16, 0.25, 0.75, 15 / 16, 15 / 16, 1), None),
+    33: ((0, 0.2, 0.2, 0.4, 0.4, 0.7, 0.7, 1), None),
+    34: ((0, 0.1, 0.3, 0.4, 0.4, 0.55, 0.85, 1), None),
+    35: ((0, 0.125, TRAPECLOID_A, TRAPECLOID_A + 0.125, TRAPECLOID_A + 0.125,
+          TRAPECLOID_A + 0.25, TRAPECLOID_A + 0.25, 1), None),
+    43: ((0, 0.25, 0.25, 0.5, 0.5, 1, 1, 1), None),
+    44: ((0, 0.2, 0.2, 0.4, 0.4, 1, 1, 1), None),
+    45: ((0, 0.125, ONE_DWELL_MT_B, ONE_DWELL_MT_B + 0.125, ONE_DWELL_MT_B + 0.125,
+          ONE_DWELL_MT_B + 0.25, 1, 1), None),
+    # 46 (Ferguson): the copy reads T5 = .675, flagged doubtful; every transition of the
+    # modified-trapezoid family is a 1/8 quarter wave, so T5 = T4 + 1/8 = .625 is used.
+    46: ((0, 0.125, 0.375, 0.5, 0.5, 0.625, 1, 1), None),
+    47: ((0, 0.125, ONE_DWELL_MT_C, ONE_DWELL_MT_C + 0.125, ONE_DWELL_MT_C + 0.125,
+          ONE_DWELL_MT_C + 5 / 24, 1, 1), None),
+    48: ((0, 0.125, 0.125, 0.5, 0.5, 1, 1, 1), None),
+    49: ((0, 0.125, ONE_DWELL_TR_D, ONE_DWELL_TR_D + 0.125, ONE_DWELL_TR_D + 0.125, 1, 1, 1), None),
+    # 50, no-dwell simple harmonic, is not in the copy: S = (1 − cos πT)/2 starts at
+    # A = +Amp and ends at A = −Amm with V = 0 at both ends, which is exactly these
+    # break points (the same law as 12; Makino lists it again in the no-dwell class).
+    50: ((0, 0, 0, 0.5, 0.5, 1, 1, 1), None),
+    51: ((0, 0, 0.25, 0.5, 0.5, 0.75, 1, 1), None),
+    52: ((0, 0, 0, 0.25, 0.75, 1, 1, 1), None),
+}
+
+
+def makino_curve(number: int, **params: float) -> UniversalCurve:
+    """Makino's curve by its classification number (table 2 and special curves).
+
+    Special curves take their parameters: 1 (``z``), 2 (``t4``), 4 (``t1``, ``t3``),
+    36 (``t1``, default 1/8). Table-2 curves take none.
+    """
+    allowed: dict[int, set[str]] = {1: {"z"}, 2: {"t4"}, 4: {"t1", "t3"}, 36: {"t1"}}
+    given = {k for k, v in params.items() if v is not None}
+    extra = given - allowed.get(number, set())
+    if extra:
+        raise InvalidParameterError(
+            f"Makino curve {number} takes no parameter {', '.join(sorted(extra))}"
+            + (f"; it takes {', '.join(sorted(allowed[number]))}." if number in allowed else ".")
+        )
+    missing = allowed.get(number, set()) - given - ({"t1"} if number == 36 else set())
+    if missing:
+        raise InvalidParameterError(f"Makino curve {number} needs {', '.join(sorted(missing))}.")
+    if number == 1:
+        return rapid_feed(params["z"])
+    if number == 2:
+        return cutting_feed(params["t4"])
+    if number == 4:
+        return modified_constant_velocity(params["t1"], params["t3"])
+    if number == 36:
+        t1 = params.get("t1")
+        return trapecloid_2(0.125 if t1 is None else _check_t1_36(t1))
+    if number not in MAKINO_BREAK_POINTS:
+        known = sorted([1, 2, 4, 36, *MAKINO_BREAK_POINTS])
+        raise InvalidParameterError(
+            f"Makino curve number {number} is not one of {', '.join(map(str, known))}."
+        )
+    pts, m = MAKINO_BREAK_POINTS[number]
+    return universal_curve(pts, m=m)
+
+
+def _check_t1_36(t1: float) -> float:
+    t1 = _check_finite("T1", t1)
+    t2 = (2 - 6 * t1 + PI * t1) / (2 + PI)
+    if not (0 < t1 and t2 >= t1 and t2 + t1 <= 1 - t1):
+        raise InvalidParameterError(f"trapecloid II needs 0 < T1 ≤ 0.27 or so (T1 ≤ T2, T3 ≤ 1 − T1), got T1 = {t1!r}.")
+    return t1
+
+
+def break_point_array(curve: UniversalCurve) -> np.ndarray:
+    return np.asarray(curve.t)
