@@ -140,9 +140,9 @@ def lookup(name: str) -> CatalogEntry:
     key = _key(str(name))
     if key in _INDEX:
         return CATALOG[_INDEX[key]]
-    names = [e.id for e in _ENTRIES] + [a for e in _ENTRIES for a in e.aliases]
-    close = difflib.get_close_matches(str(name), names, n=5, cutoff=0.5)
-    close += [n for n in names if key and key in _key(n) and n not in close]
+    by_key = {_key(n): n for e in _ENTRIES for n in (e.id, *e.aliases)}
+    close = [by_key[k] for k in difflib.get_close_matches(key, list(by_key), n=5, cutoff=0.6)]
+    close += [n for k, n in by_key.items() if key and len(key) > 2 and key in k and n not in close]
     raise UnknownCurveError(str(name), close[:5])
 
 

@@ -58,3 +58,7 @@ class LimitExceededError(CamError):
         self.requested = requested
         self.limit = limit
         super().__init__(f"{what} is {requested}, over the limit of {limit}.")
+
+
+class NonFiniteResultError(CamError):
+    """A computation produced NaN or infinity for these inputs."""

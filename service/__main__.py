@@ -1,0 +1,22 @@
+"""``python -m service``: serve the app with uvicorn (host, port, workers from settings)."""
+
+from __future__ import annotations
+
+import uvicorn
+
+from .settings import Settings
+
+
+def main() -> None:
+    settings = Settings()
+    uvicorn.run(
+        "service.main:app",
+        host=settings.host,
+        port=settings.port,
+        workers=settings.workers,
+        log_level=settings.log_level,
+    )
+
+
+if __name__ == "__main__":
+    main()

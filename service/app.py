@@ -1,0 +1,30 @@
+"""The application factory: ``create_app(settings)`` builds a configured app."""
+
+from __future__ import annotations
+
+from fastapi import FastAPI
+
+import camcore
+
+from .core import CurveService
+from .errors import install_error_handlers
+from .middleware import BodySizeLimit
+from .routes import curves, health
+from .settings import Settings
+
+DESCRIPTION = """Cam motion curves (Makino's universal cam curve, the INDEXMAN catalog curves,
+polynomial laws, Bezier and measured-point curves), characteristic values, exact inverse
+lookups, indexer sizing and plate-cam profiles. Tables are column-oriented JSON, or CSV
+on `Accept: text/csv` (POST) or `?format=csv` (GET)."""
+
+
+def create_app(settings: Settings | None = None) -> FastAPI:
+    settings = settings or Settings()
+    app = FastAPI(title="camcore", version=camcore.__version__, description=DESCRIPTION)
+    app.state.settings = settings
+    app.state.curve_service = CurveService(settings)
+    install_error_handlers(app)
+    app.include_router(health.router)
+    app.include_router(curves.router)
+    app.add_middleware(BodySizeLimit, max_body_bytes=settings.max_body_bytes)
+    return app

@@ -1,0 +1,143 @@
+"""The service's bridge to camcore: specs in, arrays out, with bounded caches.
+
+Route functions call these methods and return what they give; all numpy work and
+all limit checks live here, none in the routes.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+import camcore
+from camcore.curve import Curve
+from camcore.errors import LimitExceededError
+
+from .cache import LRUCache
+from .responses import encode_table
+from .schemas import (
+    BezierCurveSpec,
+    CurveSpec,
+    MakinoCurveSpec,
+    NamedCurveSpec,
+    PointsCurveSpec,
+    PolynomialCurveSpec,
+    UniversalCurveSpec,
+)
+from .settings import Settings
+
+
+def spec_key(spec: Any) -> str:
+    """A canonical cache key: the spec's JSON with every field, defaults included."""
+    return str(spec.model_dump_json())
+
+
+class CurveService:
+    """Builds curves from specs (cached) and answers tables, characteristics, inverses."""
+
+    def __init__(self, settings: Settings):
+        self.settings = settings
+        self.curves: LRUCache[Curve] = LRUCache(settings.curve_cache_size)
+        self.tables: LRUCache[bytes] = LRUCache(settings.table_cache_size)
+
+    # ------------------------------------------------------------------ limits
+    def check_limit(self, what: str, requested: int, limit: int) -> None:
+        if requested > limit:
+            raise LimitExceededError(what, requested, limit)
+
+    # ------------------------------------------------------------------ curves
+    def curve(self, spec: CurveSpec) -> Curve:
+        self._check_spec_size(spec)
+        return self.curves.get_or_create(spec_key(spec), lambda: self._build(spec))
+
+    def _check_spec_size(self, spec: CurveSpec) -> None:
+        if isinstance(spec, BezierCurveSpec):
+            self.check_limit("Bezier degree", len(spec.control_points) - 1, self.settings.max_bezier_degree)
+        if isinstance(spec, PointsCurveSpec):
+            self.check_limit("number of points", len(spec.t), self.settings.max_curve_points)
+
+    def _build(self, spec: CurveSpec) -> Curve:
+        rise = self._build_rise(spec)
+        return camcore.ReturnCurve(rise) if spec.direction == "return" else rise
+
+    def _build_rise(self, spec: CurveSpec) -> Curve:
+        if isinstance(spec, NamedCurveSpec):
+            return camcore.named_curve(spec.name)
+        if isinstance(spec, MakinoCurveSpec):
+            return camcore.makino_curve(spec.number, z=spec.z, t4=spec.t4, t1=spec.t1, t3=spec.t3)
+        if isinstance(spec, UniversalCurveSpec):
+            return camcore.universal_curve(spec.t, m=spec.m, v0=spec.v0, v7=spec.v7, s0=spec.s0, s7=spec.s7)
+        if isinstance(spec, PolynomialCurveSpec):
+            if spec.name is not None:
+                return camcore.named_polynomial(spec.name)
+            assert spec.start is not None and spec.end is not None
+            return camcore.polynomial_from_boundary(spec.start.model_dump(), spec.end.model_dump())
+        if isinstance(spec, BezierCurveSpec):
+            from camcore.bezier import BezierCurve
+
+            return BezierCurve(spec.control_points, max_degree=self.settings.max_bezier_degree)
+        if isinstance(spec, PointsCurveSpec):
+            from camcore.spline import PointsCurve
+
+            return PointsCurve(spec.t, spec.s, v=spec.v, max_points=self.settings.max_curve_points)
+        raise TypeError(f"unknown curve spec {type(spec).__name__}")  # pragma: no cover - union is closed
+
+    # ------------------------------------------------------------------ answers
+    def characteristics(self, spec: CurveSpec) -> dict[str, float]:
+        return self.curve(spec).characteristics.as_dict()
+
+    def table_columns(self, spec: CurveSpec, samples: int | None, t: list[float] | None) -> dict[str, np.ndarray]:
+        curve = self.curve(spec)
+        if t is not None:
+            self.check_limit("number of times t", len(t), self.settings.max_table_samples)
+            times = np.asarray(t, dtype=np.float64)
+        else:
+            assert samples is not None
+            self.check_limit("table samples", samples, self.settings.max_table_samples)
+            times = curve.sample_times(samples)
+        return curve.evaluate(times).columns()
+
+    def cached_table(self, spec: CurveSpec, samples: int, csv: bool) -> bytes:
+        """A sampled table's encoded body (JSON or CSV), cached when it is small."""
+        self.check_limit("table samples", samples, self.settings.max_table_samples)
+
+        def build() -> bytes:
+            return encode_table(self.table_columns(spec, samples, None), csv)
+
+        if samples > self.settings.table_cache_max_rows:
+            return build()
+        return self.tables.get_or_create((spec_key(spec), samples, csv), build)
+
+    def inverse_columns(
+        self, spec: CurveSpec, s: list[float], method: str, table_step: float, table_decimals: int | None
+    ) -> dict[str, np.ndarray]:
+        self.check_limit("number of s values", len(s), self.settings.max_inverse_points)
+        curve = self.curve(spec)
+        s_arr = np.asarray(s, dtype=np.float64)
+        if method == "table":
+            span = curve.t_end - curve.t_start
+            self.check_limit("inverse table rows", int(span / table_step) + 1, self.settings.max_table_samples)
+            vals = curve.inverse_table(s_arr, table_step, table_decimals)
+            return {"s": s_arr, "t": vals.t, "v": vals.v, "a": vals.a}
+        t = curve.inverse(s_arr)
+        _s, v, a = curve.derivatives(t, 2)
+        return {"s": s_arr, "t": t, "v": v, "a": a}
+
+    def catalog_entry(self, entry: camcore.CatalogEntry) -> dict[str, Any]:
+        return {
+            "id": entry.id,
+            "aliases": list(entry.aliases),
+            "name": entry.name,
+            "family": entry.family,
+            "source": entry.source,
+            "makino_number": entry.makino_number,
+            "parameters": entry.parameters,
+            "characteristics": entry.build().characteristics.as_dict(),
+        }
+
+    def catalog(self) -> list[dict[str, Any]]:
+        return [self.catalog_entry(e) for e in camcore.CATALOG.values()]
+
+    def cache_stats(self) -> dict[str, dict[str, int]]:
+        return {"curves": self.curves.stats(), "tables": self.tables.stats()}

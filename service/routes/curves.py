@@ -1,0 +1,124 @@
+"""/v1/curves: the catalog, characteristic values, tables and inverse lookups."""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from fastapi import APIRouter, Depends, Path, Query, Request
+from starlette.responses import Response
+
+import camcore
+from camcore.errors import InvalidParameterError
+
+from ..core import CurveService
+from ..deps import curve_service
+from ..responses import JSONBody, encoded_response, table_response, wants_csv
+from ..schemas import (
+    CatalogAnswer,
+    CatalogEntryAnswer,
+    CharacteristicsAnswer,
+    CharacteristicsRequest,
+    CurveTable,
+    ErrorAnswer,
+    InverseRequest,
+    InverseTable,
+    NamedCurveSpec,
+    TableRequest,
+)
+
+router = APIRouter(prefix="/v1/curves", tags=["curves"])
+
+ERRORS = {
+    400: {"model": ErrorAnswer, "description": "Malformed body"},
+    404: {"model": ErrorAnswer, "description": "Unknown curve name (close matches listed)"},
+    413: {"model": ErrorAnswer, "description": "Over a configured limit (named in the answer)"},
+    422: {"model": ErrorAnswer, "description": "Invalid request (field and reason given)"},
+}
+CSV = {"content": {"text/csv": {"schema": {"type": "string"}}}, "description": "Columns as JSON, or CSV"}
+Service = Annotated[CurveService, Depends(curve_service)]
+CurveName = Annotated[str, Path(min_length=1, max_length=80, description="id, alias or Makino number")]
+Format = Annotated[Literal["json", "csv"] | None, Query(description="csv for spreadsheets")]
+
+
+@router.get("", operation_id="listCurves", response_model=CatalogAnswer, responses=ERRORS)
+def list_curves(service: Service) -> Response:
+    """The catalog: every named curve with its aliases, source and characteristic values."""
+    return JSONBody({"curves": service.catalog()})
+
+
+@router.get("/{name}", operation_id="getCurve", response_model=CatalogEntryAnswer, responses=ERRORS)
+def get_curve(name: CurveName, service: Service) -> Response:
+    """One catalog entry, by id, alias or Makino number (case-insensitive)."""
+    return JSONBody(service.catalog_entry(camcore.lookup(name)))
+
+
+@router.post("/characteristics", operation_id="getCurveCharacteristics",
+             response_model=CharacteristicsAnswer, responses=ERRORS)
+def characteristics(body: CharacteristicsRequest, service: Service) -> Response:
+    """Vm, Am±, Jm±, Qm± (and raw A·V extremes) with the T where each occurs."""
+    return JSONBody(service.characteristics(body.curve))
+
+
+@router.post("/table", operation_id="sampleCurve", response_model=CurveTable, responses={**ERRORS, 200: CSV})
+def sample_curve(body: TableRequest, request: Request, service: Service) -> Response:
+    """Columns t, s, v, a, j, q at evenly spaced samples or at given times."""
+    return table_response(service.table_columns(body.curve, body.samples, body.t), wants_csv(request))
+
+
+@router.get("/{name}/table", operation_id="sampleNamedCurve", response_model=CurveTable,
+            responses={**ERRORS, 200: CSV})
+def sample_named_curve(
+    name: CurveName,
+    service: Service,
+    samples: Annotated[int, Query(ge=2)] = 101,
+    direction: Literal["rise", "return"] = "rise",
+    format: Format = None,
+) -> Response:
+    """The table of a catalog curve, for spreadsheets (``?format=csv``)."""
+    csv = format == "csv"
+    payload = service.cached_table(NamedCurveSpec(name=name, direction=direction), samples, csv)
+    return encoded_response(payload, csv)
+
+
+@router.post("/inverse", operation_id="invertCurve", response_model=InverseTable, responses={**ERRORS, 200: CSV})
+def invert_curve(body: InverseRequest, request: Request, service: Service) -> Response:
+    """T (and V, A) where S(T) = s: exact, or the catalog's table interpolation."""
+    columns = service.inverse_columns(body.curve, body.s, body.method, body.table_step, body.table_decimals)
+    return table_response(columns, wants_csv(request))
+
+
+def _parse_numbers(values: list[str], name: str) -> list[float]:
+    out: list[float] = []
+    for raw in values:
+        for part in raw.split(","):
+            part = part.strip()
+            if not part:
+                continue
+            try:
+                x = float(part)
+            except ValueError:
+                raise InvalidParameterError(f"{name} must be numbers; '{part[:40]}' is not a number.") from None
+            if x != x or x in (float("inf"), float("-inf")):
+                raise InvalidParameterError(f"{name} must be finite numbers, not '{part[:40]}'.")
+            out.append(x)
+    if not out:
+        raise InvalidParameterError(f"give at least one {name} value, e.g. ?{name}=0.5")
+    return out
+
+
+@router.get("/{name}/inverse", operation_id="invertNamedCurve", response_model=InverseTable,
+            responses={**ERRORS, 200: CSV})
+def invert_named_curve(
+    name: CurveName,
+    service: Service,
+    s: Annotated[list[str], Query(description="S values: repeat ?s= or separate by commas")],
+    method: Literal["exact", "table"] = "exact",
+    table_step: Annotated[float, Query(ge=1e-4, le=0.5)] = 0.01,
+    table_decimals: Annotated[int | None, Query(ge=0, le=15)] = None,
+    direction: Literal["rise", "return"] = "rise",
+    format: Format = None,
+) -> Response:
+    """The inverse lookup of a catalog curve, for spreadsheets (``?s=0.1833&format=csv``)."""
+    spec = NamedCurveSpec(name=name, direction=direction)
+    columns = service.inverse_columns(spec, _parse_numbers(s, "s"), method, table_step, table_decimals)
+    return table_response(columns, format == "csv")

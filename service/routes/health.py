@@ -1,0 +1,23 @@
+"""Liveness, version and cache statistics."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import APIRouter, Depends
+from starlette.responses import Response
+
+import camcore
+
+from ..core import CurveService
+from ..deps import curve_service
+from ..responses import JSONBody
+from ..schemas import HealthAnswer
+
+router = APIRouter(tags=["service"])
+
+
+@router.get("/health", operation_id="getHealth", response_model=HealthAnswer)
+def health(service: Annotated[CurveService, Depends(curve_service)]) -> Response:
+    """Liveness and version, with the caches' hit and miss counts."""
+    return JSONBody({"status": "ok", "version": camcore.__version__, "caches": service.cache_stats()})

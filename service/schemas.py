@@ -1,0 +1,253 @@
+"""Pydantic specs: what the service accepts and answers.
+
+Every number is bounded and finite; cross-field rules are checked in validators that
+say, in a sentence, what is wrong. Sizes that depend on the configured limits
+(table samples, inverse list lengths, Bezier degree, point counts) are checked by the
+service layer, which answers 413 naming the limit.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+#: magnitude bound for dimensionless inputs: far beyond any cam, small enough that
+#: squares and products of a few of them stay finite in float64
+BIG = 1e6
+
+Finite = Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]
+Direction = Literal["rise", "return"]
+
+
+class Spec(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+# ----------------------------------------------------------------------------- curve specs
+class NamedCurveSpec(Spec):
+    """A catalog curve by id, alias or Makino number (case-insensitive)."""
+
+    type: Literal["named"] = "named"
+    name: str = Field(min_length=1, max_length=80, examples=["MS"])
+    direction: Direction = "rise"
+
+
+class MakinoCurveSpec(Spec):
+    """Makino's curve by classification number, with its own parameters.
+
+    1: ``z`` (0 < z ≤ 1); 2: ``t4`` (0 ≤ T4 < 1); 4: ``t1``, ``t3`` (0 < T1 ≤ T3 ≤ 0.5);
+    36: optional ``t1``; table-2 numbers take none.
+    """
+
+    type: Literal["makino"] = "makino"
+    number: int = Field(ge=1, le=99, examples=[4])
+    z: Annotated[float, Field(allow_inf_nan=False, gt=0, le=1)] | None = None
+    t4: Annotated[float, Field(allow_inf_nan=False, ge=0, lt=1)] | None = None
+    t1: Annotated[float, Field(allow_inf_nan=False, gt=0, le=0.5)] | None = None
+    t3: Annotated[float, Field(allow_inf_nan=False, gt=0, le=0.5)] | None = None
+    direction: Direction = "rise"
+
+
+class UniversalCurveSpec(Spec):
+    """Makino's universal cam curve directly: break points and end conditions."""
+
+    type: Literal["universal"] = "universal"
+    t: list[Finite] = Field(min_length=8, max_length=8, description="break points T0..T7",
+                            examples=[[0, 0.125, 0.125, 0.5, 0.5, 0.875, 0.875, 1]])
+    m: Finite | None = Field(None, description="Amm/Amp; omitted = solved so that the curve ends at V7")
+    v0: Finite = 0.0
+    v7: Finite | None = Field(None, description="end velocity when m is omitted (default V0)")
+    s0: Finite = 0.0
+    s7: Finite = 1.0
+    direction: Direction = "rise"
+
+    @model_validator(mode="after")
+    def _check(self) -> UniversalCurveSpec:
+        for i in range(7):
+            if self.t[i + 1] < self.t[i]:
+                raise ValueError(
+                    f"break points must satisfy T0 ≤ T1 ≤ … ≤ T7, but T{i + 1} = {self.t[i + 1]} "
+                    f"is less than T{i} = {self.t[i]}"
+                )
+        if not self.t[7] > self.t[0]:
+            raise ValueError("break points need T7 > T0 (a stroke of positive duration)")
+        if self.m is not None and self.v7 is not None:
+            raise ValueError("give either m or v7, not both: with m fixed, V7 is a result")
+        return self
+
+
+class BoundaryConditions(Spec):
+    """Values at one end of a polynomial law; ``s`` is required, the rest optional."""
+
+    s: Finite
+    v: Finite | None = None
+    a: Finite | None = None
+    j: Finite | None = None
+
+
+class PolynomialCurveSpec(Spec):
+    """A polynomial law by name, or the least-degree polynomial meeting end conditions."""
+
+    type: Literal["polynomial"] = "polynomial"
+    name: Literal["3-4-5", "4-5-6-7", "constant-velocity"] | None = None
+    start: BoundaryConditions | None = None
+    end: BoundaryConditions | None = None
+    direction: Direction = "rise"
+
+    @model_validator(mode="after")
+    def _check(self) -> PolynomialCurveSpec:
+        if self.name is None and (self.start is None or self.end is None):
+            raise ValueError("give a polynomial name, or both start and end boundary conditions")
+        if self.name is not None and (self.start is not None or self.end is not None):
+            raise ValueError("give a polynomial name or boundary conditions, not both")
+        return self
+
+
+class BezierCurveSpec(Spec):
+    """Lift h [mm] over drive angle θ [deg] as a Bezier curve in the (θ, h) plane."""
+
+    type: Literal["bezier"] = "bezier"
+    control_points: list[tuple[Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)],
+                               Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]]] = Field(
+        min_length=2, description="[[theta_deg, h], ...], θ increasing along the curve",
+        examples=[[[0, 0], [30, 0], [60, 10], [90, 10]]])
+    direction: Direction = "rise"
+
+
+class PointsCurveSpec(Spec):
+    """A measured or spreadsheet table (t, s), interpolated by a smooth spline."""
+
+    type: Literal["points"] = "points"
+    t: list[Finite] = Field(min_length=2, description="strictly increasing")
+    s: list[Finite] = Field(min_length=2)
+    v: list[Finite] | None = Field(None, description="optional slopes ds/dt at the points")
+    direction: Direction = "rise"
+
+    @model_validator(mode="after")
+    def _check(self) -> PointsCurveSpec:
+        if len(self.s) != len(self.t):
+            raise ValueError(f"t and s must have the same length (t has {len(self.t)}, s has {len(self.s)})")
+        if self.v is not None and len(self.v) != len(self.t):
+            raise ValueError(f"v must have one slope per point ({len(self.t)}), got {len(self.v)}")
+        for i in range(len(self.t) - 1):
+            if not self.t[i + 1] > self.t[i]:
+                raise ValueError(f"t must be strictly increasing, but t[{i + 1}] = {self.t[i + 1]} ≤ t[{i}] = {self.t[i]}")
+        return self
+
+
+CurveSpec = Annotated[
+    NamedCurveSpec | MakinoCurveSpec | UniversalCurveSpec | PolynomialCurveSpec | BezierCurveSpec | PointsCurveSpec,
+    Field(discriminator="type"),
+]
+
+
+# ----------------------------------------------------------------------------- curve requests
+class CharacteristicsRequest(Spec):
+    curve: CurveSpec
+
+
+class TableRequest(Spec):
+    curve: CurveSpec
+    samples: int | None = Field(None, ge=2, description="evenly spaced over [T0, T7], both ends included")
+    t: list[Finite] | None = Field(None, description="explicit times T instead of samples")
+
+    @model_validator(mode="after")
+    def _check(self) -> TableRequest:
+        if self.samples is not None and self.t is not None:
+            raise ValueError("give either samples or t, not both")
+        if self.samples is None and self.t is None:
+            self.samples = 101
+        if self.t is not None and len(self.t) == 0:
+            raise ValueError("t must list at least one time")
+        return self
+
+
+class InverseRequest(Spec):
+    curve: CurveSpec
+    s: list[Finite] = Field(min_length=1, description="displacements S to look up")
+    method: Literal["exact", "table"] = "exact"
+    table_step: Annotated[float, Field(allow_inf_nan=False, ge=1e-4, le=0.5)] = Field(
+        0.01, description="row step of the table (method = table)")
+    table_decimals: int | None = Field(
+        None, ge=0, le=15, description="round the table as printed (the catalog prints 5)")
+
+
+# ----------------------------------------------------------------------------- curve answers
+class CurveTable(BaseModel):
+    t: list[float]
+    s: list[float]
+    v: list[float]
+    a: list[float]
+    j: list[float]
+    q: list[float]
+
+
+class InverseTable(BaseModel):
+    s: list[float]
+    t: list[float]
+    v: list[float]
+    a: list[float]
+
+
+class CharacteristicsAnswer(BaseModel):
+    """Characteristic values over [T0, T7] and the T of each."""
+
+    vm: float
+    t_vm: float
+    am: float = Field(description="largest |A|, the Am that normalises Q")
+    am_pos: float
+    t_am_pos: float
+    am_neg: float
+    t_am_neg: float
+    jm_pos: float
+    t_jm_pos: float
+    jm_neg: float
+    t_jm_neg: float
+    qm_pos: float
+    t_qm_pos: float
+    qm_neg: float
+    t_qm_neg: float
+    qm_raw_pos: float = Field(description="largest A·V (Makino's QMP)")
+    t_qm_raw_pos: float
+    qm_raw_neg: float = Field(description="smallest A·V (Makino's QMM)")
+    t_qm_raw_neg: float
+    v_max: float
+    t_v_max: float
+    v_min: float
+    t_v_min: float
+    s_max: float
+    t_s_max: float
+    s_min: float
+    t_s_min: float
+
+
+class CatalogEntryAnswer(BaseModel):
+    id: str
+    aliases: list[str]
+    name: str
+    family: str
+    source: str
+    makino_number: int | None
+    parameters: dict[str, object]
+    characteristics: CharacteristicsAnswer
+
+
+class CatalogAnswer(BaseModel):
+    curves: list[CatalogEntryAnswer]
+
+
+class ErrorItem(BaseModel):
+    loc: list[str | int]
+    msg: str
+
+
+class ErrorAnswer(BaseModel):
+    detail: str
+    errors: list[ErrorItem] = []
+
+
+class HealthAnswer(BaseModel):
+    status: Literal["ok"]
+    version: str
+    caches: dict[str, dict[str, int]]

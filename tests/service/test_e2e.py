@@ -1,0 +1,74 @@
+"""End to end: the real uvicorn on a loopback port, called with httpx.Client.
+
+Starts ``python -m service`` exactly as the README says (settings from the environment),
+so the command users run is the one tested.
+"""
+
+from __future__ import annotations
+
+import os
+import socket
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import httpx
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+pytestmark = pytest.mark.e2e
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@pytest.fixture(scope="module")
+def base_url() -> Iterator[str]:
+    port = free_port()
+    env = {**os.environ, "CAMCORE_HOST": "127.0.0.1", "CAMCORE_PORT": str(port), "CAMCORE_LOG_LEVEL": "warning"}
+    proc = subprocess.Popen([sys.executable, "-m", "service"], cwd=ROOT, env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    url = f"http://127.0.0.1:{port}"
+    try:
+        deadline = time.monotonic() + 30
+        while True:
+            try:
+                if httpx.get(f"{url}/health", timeout=1).status_code == 200:
+                    break
+            except httpx.TransportError:
+                pass
+            if proc.poll() is not None or time.monotonic() > deadline:
+                out = proc.stdout.read().decode() if proc.stdout else ""
+                raise RuntimeError(f"server did not start: {out}")
+            time.sleep(0.1)
+        yield url
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+        if proc.stdout:
+            proc.stdout.close()
+
+
+def test_live_server_answers_tables_csv_and_errors(base_url: str) -> None:
+    with httpx.Client(base_url=base_url, timeout=10) as client:
+        health = client.get("/health").json()
+        assert health["status"] == "ok"
+        r = client.post("/v1/curves/table", json={"curve": {"type": "named", "name": "MS"}, "samples": 101})
+        assert r.status_code == 200
+        # INDEXMAN MS table row T = 0.30: S = 0.17789
+        assert round(r.json()["s"][30], 5) == 0.17789
+        r = client.get("/v1/curves/MS/inverse", params={"s": "0.1833", "method": "table",
+                                                        "table_decimals": 5, "format": "csv"})
+        assert r.status_code == 200 and r.text.startswith("s,t,v,a\n")
+        assert client.get("/v1/curves/nope").status_code == 404
+        r = client.post("/v1/curves/table", content=b"{", headers={"content-type": "application/json"})
+        assert r.status_code == 400
