@@ -337,15 +337,26 @@ class Curve:
             )
         return direction
 
-    def _check_stroke(self, s: FloatArray) -> None:
+    def _stroke_tolerance(self) -> float:
+        # S(T7) is summed section by section and may miss the nominal end by an ulp or two;
+        # a target within a few ulps of an end is that end
+        return 8 * float(np.spacing(max(abs(self.s_start), abs(self.s_end), 1.0)))
+
+    def _check_stroke(self, s: FloatArray) -> FloatArray:
+        """Validate targets against the stroke; return them clamped onto [S0, S7]."""
         lo, hi = sorted((self.s_start, self.s_end))
-        bad = ~np.isfinite(s) | (s < lo) | (s > hi)
+        tol = self._stroke_tolerance()
+        bad = ~np.isfinite(s) | (s < lo - tol) | (s > hi + tol)
         if bad.any():
             i = int(np.nonzero(bad)[0][0])
             raise StrokeRangeError(
                 f"s[{i}] = {float(s.reshape(-1)[i])!r} is outside the stroke of this curve, "
                 f"which runs from S = {self.s_start!r} to S = {self.s_end!r}."
             )
+        clamped = np.clip(s, lo, hi)
+        # a target at an end (within rounding) is exactly that end: T0 or T7
+        clamped = np.where(np.abs(s - self.s_start) <= tol, self.s_start, clamped)
+        return np.where(np.abs(s - self.s_end) <= tol, self.s_end, clamped)
 
     @cached_property
     def _inverse_nodes(self) -> tuple[FloatArray, FloatArray]:
@@ -366,8 +377,7 @@ class Curve:
         """
         direction = self._require_monotone()
         s_arr = np.asarray(s, dtype=np.float64)
-        target = s_arr.reshape(-1)
-        self._check_stroke(target)
+        target = self._check_stroke(s_arr.reshape(-1))
         t_nodes, s_nodes = self._inverse_nodes
         key = s_nodes * direction
         goal = target * direction
@@ -423,8 +433,7 @@ class Curve:
         """
         direction = self._require_monotone()
         s_arr = np.asarray(s, dtype=np.float64)
-        target = s_arr.reshape(-1)
-        self._check_stroke(target)
+        target = self._check_stroke(s_arr.reshape(-1))
         n = int(np.floor((self.t_end - self.t_start) / step + 1e-9))
         t_rows = self.t_start + step * np.arange(n + 1)
         if t_rows[-1] < self.t_end - 1e-12 * step:
