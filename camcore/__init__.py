@@ -32,3 +32,8 @@ __all__ = [
     "UnknownCurveError", "lookup", "makino_curve", "named_curve", "named_polynomial",
     "polynomial_from_boundary", "universal_curve", "__version__",
 ]
+
+from . import export, indexer, profile  # noqa: E402  (subpackages: indexer sizing, plate-cam profiles)
+from .indexer import Indexer, Load, LoadPart, accuracy_mm, size  # noqa: E402
+
+__all__ += ["Indexer", "Load", "LoadPart", "accuracy_mm", "export", "indexer", "profile", "size"]

@@ -9,7 +9,9 @@ import camcore
 from .core import CurveService
 from .errors import install_error_handlers
 from .middleware import BodySizeLimit
-from .routes import curves, health
+from .indexers import IndexerService
+from .profiles import ProfileService
+from .routes import curves, health, indexers, profiles
 from .settings import Settings
 
 DESCRIPTION = """Cam motion curves (Makino's universal cam curve, the INDEXMAN catalog curves,
@@ -23,8 +25,12 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app = FastAPI(title="camcore", version=camcore.__version__, description=DESCRIPTION)
     app.state.settings = settings
     app.state.curve_service = CurveService(settings)
+    app.state.indexer_service = IndexerService(app.state.curve_service)
+    app.state.profile_service = ProfileService(app.state.curve_service)
     install_error_handlers(app)
     app.include_router(health.router)
     app.include_router(curves.router)
+    app.include_router(indexers.router)
+    app.include_router(profiles.router)
     app.add_middleware(BodySizeLimit, max_body_bytes=settings.max_body_bytes)
     return app

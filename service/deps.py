@@ -5,8 +5,20 @@ from __future__ import annotations
 from fastapi import Request
 
 from .core import CurveService
+from .indexers import IndexerService
+from .profiles import ProfileService
 
 
 def curve_service(request: Request) -> CurveService:
     service: CurveService = request.app.state.curve_service
+    return service
+
+
+def indexer_service(request: Request) -> IndexerService:
+    service: IndexerService = request.app.state.indexer_service
+    return service
+
+
+def profile_service(request: Request) -> ProfileService:
+    service: ProfileService = request.app.state.profile_service
     return service

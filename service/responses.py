@@ -45,14 +45,17 @@ def check_finite(columns: Mapping[str, Any]) -> None:
 
 
 def encode_csv(columns: Mapping[str, Any]) -> bytes:
-    """Header row, one column per quantity, '.' decimal mark, shortest round-trip floats."""
+    """Header row, one column per quantity, '.' decimal mark, shortest round-trip floats.
+
+    A NaN (allowed only in columns where it means "unbounded") is an empty cell.
+    """
     names = list(columns)
     cells = []
     for name in names:
         col = np.ascontiguousarray(np.asarray(columns[name], dtype=np.float64).reshape(-1))
         # orjson writes each float in its shortest round-trip form; reuse that text
         text = orjson.dumps(col, option=orjson.OPT_SERIALIZE_NUMPY)[1:-1]
-        cells.append(text.split(b",") if text else [])
+        cells.append([b"" if c == b"null" else c for c in text.split(b",")] if text else [])
     rows = [b",".join(row) for row in zip(*cells)]
     return b"\n".join([",".join(names).encode(), *rows]) + b"\n"
 
@@ -65,9 +68,12 @@ def wants_csv(request: Request, format_param: str | None = None) -> bool:
     return "text/csv" in accept.lower()
 
 
-def encode_table(columns: Mapping[str, Any], csv: bool) -> bytes:
-    """The body of a table answer: CSV text or a JSON object of columns."""
-    check_finite(columns)
+def encode_table(columns: Mapping[str, Any], csv: bool, allow_null: tuple[str, ...] = ()) -> bytes:
+    """The body of a table answer: CSV text or a JSON object of columns.
+
+    Columns named in ``allow_null`` may hold NaN, written as null (JSON) or an empty cell.
+    """
+    check_finite({k: v for k, v in columns.items() if k not in allow_null})
     return encode_csv(columns) if csv else orjson.dumps(dict(columns), option=_OPTIONS)
 
 
@@ -77,5 +83,6 @@ def encoded_response(payload: bytes, csv: bool, filename: str = "table.csv") -> 
     return Response(payload, media_type="application/json")
 
 
-def table_response(columns: Mapping[str, Any], csv: bool, filename: str = "table.csv") -> Response:
-    return encoded_response(encode_table(columns, csv), csv, filename)
+def table_response(columns: Mapping[str, Any], csv: bool, filename: str = "table.csv",
+                   allow_null: tuple[str, ...] = ()) -> Response:
+    return encoded_response(encode_table(columns, csv, allow_null), csv, filename)

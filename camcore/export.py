@@ -1,0 +1,105 @@
+"""Export a cam contour for CAD and spreadsheets: CSV, plain "X Y Z" text, DXF.
+
+All functions take the contour as x, y arrays in millimetres (the cam's own frame,
+e.g. ``ProfileResult.x_mm, y_mm``). A repeated closing point (last = first within 1e-9 of the contour size, as from
+``sample_profile`` over 0–360° with both ends) is dropped where a closed entity is
+written, so a DXF polyline has one vertex per distinct point.
+"""
+
+from __future__ import annotations
+
+import io
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .errors import InvalidParameterError
+
+
+def _xy(x: ArrayLike, y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    px = np.asarray(x, dtype=np.float64).reshape(-1)
+    py = np.asarray(y, dtype=np.float64).reshape(-1)
+    if px.shape != py.shape or px.size < 2:
+        raise InvalidParameterError("x and y must have the same length, at least 2 points.")
+    if not (np.all(np.isfinite(px)) and np.all(np.isfinite(py))):
+        raise InvalidParameterError("The contour has non-finite coordinates.")
+    return px, py
+
+
+def _open(px: np.ndarray, py: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Drop a repeated closing point."""
+    size = max(float(np.abs(px).max()), float(np.abs(py).max()), 1.0)
+    if px.size > 2 and np.hypot(px[0] - px[-1], py[0] - py[-1]) <= 1e-9 * size:
+        return px[:-1], py[:-1]
+    return px, py
+
+
+def contour_csv(
+    x: ArrayLike, y: ArrayLike, cam_angle_deg: ArrayLike | None = None, with_z: bool = False
+) -> str:
+    """CSV text with a header: ``cam_angle_deg,x_mm,y_mm`` (``,z_mm`` = 0 with ``with_z``).
+
+    Full float precision (``repr``), ``.`` as decimal mark, ``\\n`` line ends.
+    """
+    px, py = _xy(x, y)
+    cols: list[tuple[str, Sequence[float]]] = []
+    if cam_angle_deg is not None:
+        a = np.asarray(cam_angle_deg, dtype=np.float64).reshape(-1)
+        if a.shape != px.shape:
+            raise InvalidParameterError("cam_angle_deg must have one value per contour point.")
+        cols.append(("cam_angle_deg", a.tolist()))
+    cols += [("x_mm", px.tolist()), ("y_mm", py.tolist())]
+    if with_z:
+        cols.append(("z_mm", [0.0] * px.size))
+    lines = [",".join(name for name, _ in cols)]
+    for row in zip(*(c for _, c in cols)):
+        lines.append(",".join(repr(float(v)) for v in row))
+    return "\n".join(lines) + "\n"
+
+
+def contour_xyz(x: ArrayLike, y: ArrayLike, close: bool = True) -> str:
+    """Plain "X Y Z" lines (space separated, z = 0, no header) for CAD "curve through
+    points" import. With ``close`` the first point is repeated at the end (once)."""
+    px, py = _open(*_xy(x, y))
+    if close:
+        px, py = np.append(px, px[0]), np.append(py, py[0])
+    return "".join(f"{float(a)!r} {float(b)!r} 0.0\n" for a, b in zip(px, py))
+
+
+def contour_dxf(
+    x: ArrayLike,
+    y: ArrayLike,
+    spline: bool = False,
+    layer: str = "CAM",
+    base_radius_mm: float | None = None,
+) -> bytes:
+    """DXF R2010 drawing in millimetres: a closed LWPOLYLINE through the contour points,
+    optionally a closed SPLINE through the same fit points (layer ``<layer>_SPLINE``) and
+    the base circle (layer ``<layer>_BASE``). Returns the file's bytes (UTF-8 text)."""
+    import ezdxf
+    from ezdxf import units
+
+    px, py = _open(*_xy(x, y))
+    doc = ezdxf.new("R2010")
+    doc.units = units.MM
+    doc.header["$MEASUREMENT"] = 1  # metric
+    msp = doc.modelspace()
+    doc.layers.add(layer)
+    pts = list(zip(px.tolist(), py.tolist()))
+    msp.add_lwpolyline(pts, format="xy", close=True, dxfattribs={"layer": layer})
+    if spline:
+        doc.layers.add(f"{layer}_SPLINE")
+        fit = [(a, b, 0.0) for a, b in pts]
+        fit.append(fit[0])
+        sp = msp.add_spline(fit_points=fit, dxfattribs={"layer": f"{layer}_SPLINE"})
+        sp.closed = True
+    if base_radius_mm is not None:
+        doc.layers.add(f"{layer}_BASE")
+        msp.add_circle((0.0, 0.0), base_radius_mm, dxfattribs={"layer": f"{layer}_BASE"})
+    stream = io.StringIO()
+    doc.write(stream)
+    return stream.getvalue().encode("utf-8")
+
+
+__all__ = ["contour_csv", "contour_dxf", "contour_xyz"]

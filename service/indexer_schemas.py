@@ -1,0 +1,201 @@
+"""Specs and answers of /v1/indexers (API.md: IndexerSpec, LoadSpec)."""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, Field, model_validator
+
+from .schemas import BIG, CurveSpec, NamedCurveSpec, Spec
+
+Positive = Annotated[float, Field(allow_inf_nan=False, gt=0, le=BIG)]
+NonNegative = Annotated[float, Field(allow_inf_nan=False, ge=0, le=BIG)]
+
+
+class IndexerSpec(Spec):
+    """A cam indexer (stops) or oscillating unit (swing angle) at constant input speed."""
+
+    stops: int | None = Field(None, ge=1, le=100_000, description="n, stops per output turn")
+    swing_angle_deg: Annotated[float, Field(allow_inf_nan=False, gt=0, le=360)] | None = Field(
+        None, description="ψ, output swing of an oscillating unit (instead of stops)")
+    indexing_angle_deg: Annotated[float, Field(allow_inf_nan=False, gt=0, le=360)] = Field(
+        description="θh, input angle per index")
+    dwells: int = Field(1, ge=1, le=360, description="z, indexes per input turn")
+    speed_rpm: Positive | None = Field(None, description="N, input speed")
+    cycle_time_s: Positive | None = Field(None, description="t0, unit cycle time (instead of speed_rpm)")
+    input_stop_time_s: NonNegative = Field(0.0, description="ts, input stands still each index")
+    curve: CurveSpec = Field(default_factory=lambda: NamedCurveSpec(name="MS"))
+
+    @model_validator(mode="after")
+    def _check(self) -> IndexerSpec:
+        if (self.stops is None) == (self.swing_angle_deg is None):
+            raise ValueError("give exactly one of stops (n) and swing_angle_deg (ψ, oscillating units)")
+        if (self.speed_rpm is None) == (self.cycle_time_s is None):
+            raise ValueError("give exactly one of speed_rpm (N) and cycle_time_s (t0 = 60/(N·z))")
+        if self.indexing_angle_deg * self.dwells > 360 * (1 + 1e-12):
+            raise ValueError(
+                f"the total indexing angle θt = θh·z must not exceed 360°, but indexing_angle_deg × dwells = "
+                f"{self.indexing_angle_deg} × {self.dwells} = {self.indexing_angle_deg * self.dwells}"
+            )
+        return self
+
+
+class LoadPartSpec(Spec):
+    """A part of the load; its own axis is offset_mm from the output axis."""
+
+    shape: Literal["disc", "ring", "block", "point"]
+    mass_kg: NonNegative
+    diameter_mm: NonNegative | None = None
+    inner_diameter_mm: NonNegative | None = None
+    a_mm: NonNegative | None = None
+    b_mm: NonNegative | None = None
+    offset_mm: NonNegative = 0.0
+    count: int = Field(1, ge=1, le=100_000)
+
+    @model_validator(mode="after")
+    def _check(self) -> LoadPartSpec:
+        if self.shape in ("disc", "ring") and self.diameter_mm is None:
+            raise ValueError(f"a {self.shape} needs diameter_mm")
+        if self.shape == "ring":
+            if self.inner_diameter_mm is None:
+                raise ValueError("a ring needs inner_diameter_mm")
+            if self.diameter_mm is not None and self.inner_diameter_mm > self.diameter_mm:
+                raise ValueError("a ring's inner_diameter_mm must not exceed its diameter_mm")
+        if self.shape == "block" and (self.a_mm is None or self.b_mm is None):
+            raise ValueError("a block needs a_mm and b_mm (its sides in the plane of rotation)")
+        return self
+
+
+class LoadSpec(Spec):
+    """What the output drives: inertia, friction, work torque, service factor, efficiency."""
+
+    inertia_kgm2: NonNegative = Field(0.0, description="given directly, added to the parts")
+    parts: list[LoadPartSpec] = Field(default_factory=list, max_length=1000)
+    friction_coefficient: NonNegative | None = Field(None, description="μ, with friction_radius_mm")
+    friction_radius_mm: NonNegative | None = None
+    friction_torque_nm: NonNegative | None = None
+    work_torque_nm: NonNegative = 0.0
+    service_factor: Annotated[float, Field(allow_inf_nan=False, ge=1, le=100)] = 1.5
+    efficiency: Annotated[float, Field(allow_inf_nan=False, gt=0, le=1)] = 1.0
+    accuracy_arc_seconds: NonNegative | None = Field(None, description="with accuracy_radius_mm: arc-seconds → mm")
+    accuracy_radius_mm: NonNegative | None = None
+
+    @model_validator(mode="after")
+    def _check(self) -> LoadSpec:
+        if (self.friction_coefficient is None) != (self.friction_radius_mm is None):
+            raise ValueError("friction_coefficient and friction_radius_mm go together (Tf = μ·m·g·R)")
+        if self.friction_coefficient is not None and self.friction_torque_nm is not None:
+            raise ValueError("give friction as friction_coefficient with friction_radius_mm, or friction_torque_nm, not both")
+        if (self.accuracy_arc_seconds is None) != (self.accuracy_radius_mm is None):
+            raise ValueError("accuracy_arc_seconds and accuracy_radius_mm go together")
+        return self
+
+
+class MotionRequest(Spec):
+    indexer: IndexerSpec
+    samples: int = Field(101, ge=2)
+
+
+class PositionRequest(Spec):
+    indexer: IndexerSpec
+    output_angle_deg: list[Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]] = Field(min_length=1)
+    method: Literal["exact", "table"] = "exact"
+    table_step: Annotated[float, Field(allow_inf_nan=False, ge=1e-4, le=0.5)] = 0.01
+    table_decimals: int | None = Field(None, ge=0, le=15)
+
+
+class SizingRequest(Spec):
+    indexer: IndexerSpec
+    load: LoadSpec
+
+
+class MotionSummaryAnswer(BaseModel):
+    indexing_time_s: float
+    cycle_time_s: float
+    dwell_time_s: float
+    machine_cycle_time_s: float
+    displacement_deg: float
+    stops: float
+    indexing_angle_deg: float
+    total_indexing_angle_deg: float
+    dwell_angle_deg: float
+    dwells: int
+    speed_rpm: float
+    omega_rad_s: float
+    omega_input_angle_deg: float
+    omega_time_s: float
+    alpha_rad_s2: float
+    alpha_pos_rad_s2: float
+    alpha_pos_input_angle_deg: float
+    alpha_pos_time_s: float
+    alpha_neg_rad_s2: float
+    alpha_neg_input_angle_deg: float
+    alpha_neg_time_s: float
+    jerk_rad_s3: float
+    jerk_pos_rad_s3: float
+    jerk_pos_input_angle_deg: float
+    jerk_pos_time_s: float
+    jerk_neg_rad_s3: float
+    jerk_neg_input_angle_deg: float
+    jerk_neg_time_s: float
+
+
+class MotionTableAnswer(BaseModel):
+    input_angle_deg: list[float]
+    time_s: list[float]
+    output_angle_deg: list[float]
+    omega_rad_s: list[float]
+    alpha_rad_s2: list[float]
+    jerk_rad_s3: list[float]
+    dout_din: list[float]
+    d2out_din2_per_rad: list[float]
+
+
+class MotionAnswer(BaseModel):
+    summary: MotionSummaryAnswer
+    table: MotionTableAnswer
+
+
+class PositionAnswer(BaseModel):
+    output_angle_deg: list[float]
+    input_angle_deg: list[float]
+    time_s: list[float]
+    omega_rad_s: list[float]
+    alpha_rad_s2: list[float]
+    t: list[float]
+    v: list[float]
+    a: list[float]
+
+
+class SizingAnswer(BaseModel):
+    inertia_kgm2: float
+    mass_kg: float
+    alpha_max_rad_s2: float
+    omega_max_rad_s: float
+    inertia_torque_nm: float
+    friction_torque_nm: float
+    work_torque_nm: float
+    output_torque_nm: float
+    design_output_torque_nm: float
+    service_factor: float
+    efficiency: float
+    input_torque_nm: float
+    input_torque_t: float
+    input_torque_input_angle_deg: float
+    input_torque_time_s: float
+    input_torque_pos_nm: float
+    input_torque_pos_t: float
+    input_torque_neg_nm: float
+    input_torque_neg_t: float
+    input_torque_catalog_nm: float
+    qm: float
+    input_power_kw: float
+    input_power_catalog_kw: float
+    speed_rpm: float
+    accuracy_mm: float | None = None
+
+
+class AccuracyAnswer(BaseModel):
+    arc_seconds: float
+    radius_mm: float
+    accuracy_mm: float

@@ -1,0 +1,153 @@
+"""Specs and answers of /v1/profiles (API.md: ProfileSpec)."""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, Field, model_validator
+
+from .schemas import BIG, BezierCurveSpec, CurveSpec, PointsCurveSpec, Spec
+
+Length = Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]
+PositiveLength = Annotated[float, Field(allow_inf_nan=False, gt=0, le=BIG)]
+
+
+class FollowerSpec(Spec):
+    type: Literal["knife-edge", "roller", "flat-faced"] = "knife-edge"
+    motion: Literal["translating", "oscillating"] = "translating"
+    offset_mm: Length = Field(0.0, description="offset e of a translating follower's line of motion")
+    roller_radius_mm: Annotated[float, Field(allow_inf_nan=False, ge=0, le=BIG)] = 0.0
+    arm_length_mm: PositiveLength | None = Field(None, description="oscillating: pivot to contact")
+    pivot_distance_mm: PositiveLength | None = Field(None, description="oscillating: cam centre to pivot")
+
+    @model_validator(mode="after")
+    def _check(self) -> FollowerSpec:
+        if self.type == "roller" and not self.roller_radius_mm > 0:
+            raise ValueError("a roller follower needs roller_radius_mm > 0")
+        if self.motion == "oscillating":
+            if self.pivot_distance_mm is None:
+                raise ValueError("an oscillating follower needs pivot_distance_mm")
+            if self.type != "flat-faced" and self.arm_length_mm is None:
+                raise ValueError("an oscillating follower needs arm_length_mm")
+        return self
+
+
+class SegmentSpec(Spec):
+    """One stretch of the lift schedule; its type sets the direction of its curve."""
+
+    type: Literal["rise", "dwell", "return"]
+    angle_deg: Annotated[float, Field(allow_inf_nan=False, gt=0, le=360)]
+    lift_mm: Annotated[float, Field(allow_inf_nan=False, ge=0, le=BIG)] | None = None
+    swing_deg: Annotated[float, Field(allow_inf_nan=False, ge=0, le=180)] | None = None
+    curve: CurveSpec | None = Field(None, description="the rise law (a return plays it backwards); default cycloid")
+
+    @model_validator(mode="after")
+    def _check(self) -> SegmentSpec:
+        if self.type != "dwell" and self.lift_mm is None and self.swing_deg is None:
+            raise ValueError(f"a {self.type} segment needs lift_mm (or swing_deg for an oscillating follower)")
+        if self.lift_mm is not None and self.swing_deg is not None:
+            raise ValueError("give lift_mm or swing_deg, not both")
+        if self.curve is not None and self.curve.direction == "return":
+            raise ValueError("a segment's type sets its direction: give the rise law with direction 'rise'")
+        return self
+
+
+class ProfileSpec(Spec):
+    follower: FollowerSpec
+    base_radius_mm: PositiveLength
+    rotation: Literal["ccw", "cw"] = "ccw"
+    rotation_ratio: Annotated[float, Field(allow_inf_nan=False, gt=0, le=1000)] = Field(
+        1.0, description="cam turns per drive-shaft turn")
+    segments: list[SegmentSpec] | None = Field(None, min_length=1, max_length=360)
+    lift: Annotated[BezierCurveSpec | PointsCurveSpec, Field(discriminator="type")] | None = Field(
+        None, description="one Bezier or points curve of lift over the drive angle")
+
+    @model_validator(mode="after")
+    def _check(self) -> ProfileSpec:
+        if (self.segments is None) == (self.lift is None):
+            raise ValueError("give the lift either as segments or as one lift curve (bezier or points)")
+        if self.segments is not None:
+            total = sum(s.angle_deg for s in self.segments)
+            if abs(total - 360) > 1e-9:
+                raise ValueError(f"segment angles must add to 360°, but they add to {total}°")
+            oscillating = self.follower.motion == "oscillating"
+            for i, seg in enumerate(self.segments):
+                if oscillating and seg.lift_mm is not None and seg.lift_mm > 0:
+                    raise ValueError(f"segments[{i}]: an oscillating follower's lift is swing_deg, not lift_mm")
+                if not oscillating and seg.swing_deg is not None:
+                    raise ValueError(f"segments[{i}]: a translating follower's lift is lift_mm, not swing_deg")
+        if self.follower.motion == "translating" and self.follower.type != "flat-faced":
+            if abs(self.follower.offset_mm) >= self.base_radius_mm + self.follower.roller_radius_mm:
+                raise ValueError("the offset must be smaller than the base radius (plus roller radius): "
+                                 "the follower line would miss the cam")
+        return self
+
+
+class ProfileRequest(Spec):
+    profile: ProfileSpec
+    samples: int | None = Field(None, ge=2, description="evenly over 0–360° of cam angle, both ends included")
+    cam_angle_deg: list[Annotated[float, Field(allow_inf_nan=False, ge=-1e5, le=1e5)]] | None = None
+
+    @model_validator(mode="after")
+    def _check(self) -> ProfileRequest:
+        if self.samples is not None and self.cam_angle_deg is not None:
+            raise ValueError("give either samples or cam_angle_deg, not both")
+        if self.samples is None and self.cam_angle_deg is None:
+            self.samples = 361
+        if self.cam_angle_deg is not None and not self.cam_angle_deg:
+            raise ValueError("cam_angle_deg must list at least one angle")
+        return self
+
+
+class BaseCircleRequest(Spec):
+    profile: ProfileSpec
+    max_pressure_angle_deg: Annotated[float, Field(allow_inf_nan=False, gt=0, lt=90)] | None = None
+    min_radius_of_curvature_mm: Annotated[float, Field(allow_inf_nan=False, ge=0, le=BIG)] | None = None
+
+    @model_validator(mode="after")
+    def _check(self) -> BaseCircleRequest:
+        if self.max_pressure_angle_deg is None and self.min_radius_of_curvature_mm is None:
+            if self.profile.follower.type != "flat-faced":
+                raise ValueError("give max_pressure_angle_deg and/or min_radius_of_curvature_mm")
+        return self
+
+
+class ProfileChecksAnswer(BaseModel):
+    max_pressure_angle_deg: float
+    max_pressure_angle_at_deg: float
+    max_pressure_angle_signed_deg: float
+    min_radius_of_curvature_mm: float
+    min_radius_of_curvature_at_deg: float
+    min_pitch_radius_of_curvature_mm: float | None
+    convex: bool
+    undercut: bool
+    corners_deg: list[float]
+    face_min_mm: float | None
+    face_max_mm: float | None
+    face_width_mm: float | None
+
+
+class ProfileAnswer(BaseModel):
+    """Columns over cam_angle_deg; radius columns are null where the surface is straight."""
+
+    cam_angle_deg: list[float]
+    lift_mm: list[float] | None = None
+    swing_deg: list[float] | None = None
+    x_mm: list[float]
+    y_mm: list[float]
+    pitch_x_mm: list[float]
+    pitch_y_mm: list[float]
+    pressure_angle_deg: list[float]
+    radius_of_curvature_mm: list[float | None]
+    pitch_radius_of_curvature_mm: list[float | None]
+    contact_offset_mm: list[float] | None = None
+    checks: ProfileChecksAnswer
+
+
+class BaseCircleAnswer(BaseModel):
+    base_radius_mm: float
+    active_constraint: Literal["pressure_angle", "radius_of_curvature", "geometry"]
+    max_pressure_angle_deg: float
+    min_radius_of_curvature_mm: float
+    radius_for_pressure_angle_mm: float | None
+    radius_for_curvature_mm: float | None

@@ -1,0 +1,82 @@
+"""The service's bridge to camcore.profile and camcore.export."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from camcore import export
+from camcore import profile as core
+
+from .core import CurveService
+from .profile_schemas import ProfileSpec
+
+#: columns where an infinite value is meaningful (a straight stretch of surface) and is
+#: answered as null (JSON has no infinity)
+UNBOUNDED_COLUMNS = ("radius_of_curvature_mm", "pitch_radius_of_curvature_mm")
+
+
+class ProfileService:
+    """Plate-cam profiles, checks, base-circle sizing and contour export."""
+
+    def __init__(self, curves: CurveService):
+        self.curves = curves
+
+    def cam(self, spec: ProfileSpec, base_radius_mm: float | None = None) -> core.CamSpec:
+        f = spec.follower
+        follower = core.Follower(type=f.type, motion=f.motion, offset_mm=f.offset_mm,
+                                 roller_radius_mm=f.roller_radius_mm, arm_length_mm=f.arm_length_mm,
+                                 pivot_distance_mm=f.pivot_distance_mm)
+        radius = spec.base_radius_mm if base_radius_mm is None else base_radius_mm
+        if spec.segments is not None:
+            segments = [
+                core.Segment(kind=s.type, angle_deg=s.angle_deg, lift_mm=s.lift_mm or 0.0,
+                             swing_deg=s.swing_deg, curve=None if s.curve is None else self.curves.curve(s.curve))
+                for s in spec.segments
+            ]
+            return core.make_cam(follower, radius, segments=segments, rotation=spec.rotation,
+                                 rotation_ratio=spec.rotation_ratio)
+        assert spec.lift is not None
+        return core.make_cam(follower, radius, lift_curve=self.curves.curve(spec.lift), rotation=spec.rotation,
+                             rotation_ratio=spec.rotation_ratio)
+
+    def profile(self, spec: ProfileSpec, samples: int | None, cam_angle_deg: list[float] | None) -> core.ProfileResult:
+        n = len(cam_angle_deg) if cam_angle_deg is not None else int(samples or 361)
+        self.curves.check_limit("profile samples", n, self.curves.settings.max_table_samples)
+        cam = self.cam(spec)
+        if cam_angle_deg is not None:
+            return core.compute_profile(cam, np.asarray(cam_angle_deg, dtype=np.float64))
+        return core.sample_profile(cam, n)
+
+    @staticmethod
+    def columns(result: core.ProfileResult) -> dict[str, Any]:
+        cols: dict[str, Any] = dict(result.columns())
+        cols["pitch_radius_of_curvature_mm"] = result.pitch_radius_of_curvature_mm
+        for name in UNBOUNDED_COLUMNS:
+            col = np.asarray(cols[name], dtype=np.float64)
+            # ±inf (straight surface) and nan become null in JSON; orjson writes NaN as null
+            cols[name] = np.where(np.isfinite(col), col, np.nan)
+        return cols
+
+    @staticmethod
+    def checks(result: core.ProfileResult) -> dict[str, Any]:
+        out = result.checks.as_dict()
+        out["corners_deg"] = list(out.get("corners_deg") or [])
+        return out
+
+    def base_circle(self, spec: ProfileSpec, max_pressure_angle_deg: float | None,
+                    min_radius_of_curvature_mm: float | None) -> dict[str, Any]:
+        result = core.size_base_circle(self.cam(spec), max_pressure_angle_deg, min_radius_of_curvature_mm)
+        return {k: getattr(result, k) for k in result.__dataclass_fields__}
+
+    @staticmethod
+    def export(result: core.ProfileResult, fmt: str, base_radius_mm: float) -> tuple[bytes, str, str]:
+        """(body, media type, file name) of a contour export: dxf, xyz or csv."""
+        x, y = result.x_mm, result.y_mm
+        if fmt == "dxf":
+            return export.contour_dxf(x, y, spline=True, base_radius_mm=base_radius_mm), "application/dxf", "cam.dxf"
+        if fmt == "xyz":
+            return export.contour_xyz(x, y).encode(), "text/plain; charset=utf-8", "cam.xyz"
+        return (export.contour_csv(x, y, result.cam_angle_deg, with_z=True).encode(), "text/csv; charset=utf-8",
+                "cam_contour.csv")

@@ -1,0 +1,62 @@
+"""/v1/indexers: motion over the input angle, position lookup, torque and power sizing."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import APIRouter, Depends, Query, Request
+from starlette.responses import Response
+
+from ..deps import indexer_service
+from ..indexer_schemas import (
+    AccuracyAnswer,
+    MotionAnswer,
+    MotionRequest,
+    PositionAnswer,
+    PositionRequest,
+    SizingAnswer,
+    SizingRequest,
+)
+from ..indexers import IndexerService
+from ..responses import JSONBody, check_finite, table_response, wants_csv
+from .curves import CSV, ERRORS
+
+router = APIRouter(prefix="/v1/indexers", tags=["indexers"])
+Service = Annotated[IndexerService, Depends(indexer_service)]
+
+
+@router.post("/motion", operation_id="getIndexerMotion", response_model=MotionAnswer, responses={**ERRORS, 200: CSV})
+def indexer_motion(body: MotionRequest, request: Request, service: Service) -> Response:
+    """Summary (times, exact peaks) and the output motion over one index (CSV: the table)."""
+    summary, table = service.motion(body.indexer, body.samples)
+    if wants_csv(request):
+        return table_response(table, True, filename="motion.csv")
+    check_finite(table)
+    return JSONBody({"summary": summary, "table": table})
+
+
+@router.post("/position", operation_id="getIndexerPosition", response_model=PositionAnswer,
+             responses={**ERRORS, 200: CSV})
+def indexer_position(body: PositionRequest, request: Request, service: Service) -> Response:
+    """For each output angle: input angle, time, ω and α (exact, or the catalog's table method)."""
+    columns = service.position(body.indexer, body.output_angle_deg, body.method, body.table_step,
+                               body.table_decimals)
+    return table_response(columns, wants_csv(request), filename="position.csv")
+
+
+@router.post("/sizing", operation_id="sizeIndexer", response_model=SizingAnswer, responses=ERRORS)
+def indexer_sizing(body: SizingRequest, service: Service) -> Response:
+    """Inertia, friction and work torque, output and input torque, input power."""
+    result = service.sizing(body.indexer, body.load)
+    check_finite({k: v for k, v in result.items() if isinstance(v, float)})
+    return JSONBody(result)
+
+
+@router.get("/accuracy", operation_id="convertIndexingAccuracy", response_model=AccuracyAnswer, responses=ERRORS)
+def indexing_accuracy(
+    service: Service,
+    arc_seconds: Annotated[float, Query(ge=0, le=1e6, allow_inf_nan=False)],
+    radius_mm: Annotated[float, Query(ge=0, le=1e7, allow_inf_nan=False)],
+) -> Response:
+    """Arc-seconds at a radius → millimetres: x = 2π·r·θ/(360·3600) (guide, 计算分度精度)."""
+    return JSONBody(service.accuracy(arc_seconds, radius_mm))

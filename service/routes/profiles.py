@@ -1,0 +1,57 @@
+"""/v1/profiles: plate-cam contours with checks, contour export, base-circle sizing."""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+import numpy as np
+from fastapi import APIRouter, Depends, Query, Request
+from starlette.responses import Response
+
+from ..deps import profile_service
+from ..profile_schemas import BaseCircleAnswer, BaseCircleRequest, ProfileAnswer, ProfileRequest
+from ..profiles import UNBOUNDED_COLUMNS, ProfileService
+from ..responses import JSONBody, check_finite, table_response, wants_csv
+from .curves import ERRORS
+
+router = APIRouter(prefix="/v1/profiles", tags=["profiles"])
+Service = Annotated[ProfileService, Depends(profile_service)]
+
+EXPORTS = {
+    "content": {
+        "text/csv": {"schema": {"type": "string"}},
+        "application/dxf": {"schema": {"type": "string", "format": "binary"}},
+        "text/plain": {"schema": {"type": "string"}},
+    },
+    "description": "Columns and checks as JSON; the table as CSV; the contour as DXF or X Y Z text",
+}
+
+
+@router.post("", operation_id="computeProfile", response_model=ProfileAnswer, responses={**ERRORS, 200: EXPORTS})
+def compute_profile(
+    body: ProfileRequest,
+    request: Request,
+    service: Service,
+    format: Annotated[Literal["json", "csv", "dxf", "xyz", "contour-csv"] | None,
+                      Query(description="dxf / xyz / contour-csv download the contour")] = None,
+) -> Response:
+    """Cam surface, pitch curve, lift, pressure angle, radius of curvature, and the checks."""
+    result = service.profile(body.profile, body.samples, body.cam_angle_deg)
+    if format in ("dxf", "xyz", "contour-csv"):
+        payload, media, name = service.export(result, "csv" if format == "contour-csv" else format,
+                                              body.profile.base_radius_mm)
+        return Response(payload, media_type=media, headers={"Content-Disposition": f'attachment; filename="{name}"'})
+    columns = service.columns(result)
+    bounded = {k: v for k, v in columns.items() if k not in UNBOUNDED_COLUMNS}
+    check_finite(bounded)
+    if format == "csv" or (format is None and wants_csv(request)):
+        return table_response({k: np.asarray(v) for k, v in columns.items()}, True, filename="profile.csv",
+                              allow_null=UNBOUNDED_COLUMNS)
+    return JSONBody({**columns, "checks": service.checks(result)})
+
+
+@router.post("/base-circle", operation_id="sizeBaseCircle", response_model=BaseCircleAnswer, responses=ERRORS)
+def size_base_circle(body: BaseCircleRequest, service: Service) -> Response:
+    """The smallest base radius meeting a pressure-angle limit and/or a curvature limit."""
+    result = service.base_circle(body.profile, body.max_pressure_angle_deg, body.min_radius_of_curvature_mm)
+    return JSONBody(result)
