@@ -52,6 +52,12 @@ _MIN_THETA_SLOPE = 1e-12
 #: the colleague-matrix eigenvalue solver misplaces.
 _GUARD_SAMPLES = 1025
 
+#: parameter values evaluated per block by de Casteljau's algorithm.
+_CHUNK = 2048
+
+#: Newton on θ(s) = T stops when the step or the bracket is this small [-].
+_S_TOL = 4.0 * np.finfo(float).eps
+
 #: samples of θ(s) used to bracket s for a given T before Newton's iteration.
 _INVERSE_TABLE = 257
 
@@ -76,6 +82,42 @@ def bernstein_eval(coef: FloatArray, s: FloatArray) -> FloatArray:
     for _ in range(coef.size - 1):
         level = level[:-1] * one_minus + level[1:] * s
     return level[0]
+
+
+def bernstein_derivatives(coef: FloatArray, s: FloatArray, order: int) -> list[FloatArray]:
+    """Value and derivatives up to ``order`` of Σ coef_k B_k^n(s), in one de Casteljau run.
+
+    After n − k steps of de Casteljau's algorithm k + 1 points remain, and
+    P^(k)(s) = n!/(n − k)! · Δ^k of those points (Farin, §5.3): the forward differences
+    of the derivative control points, taken at the level where they are needed. One
+    run costs what a single evaluation costs, instead of one run per derivative.
+
+    Parameters
+    ----------
+    coef : ndarray, shape (n + 1, ...)
+        Bernstein coefficients; trailing axes (e.g. θ and h side by side) are carried along.
+    s : ndarray, shape (m,)
+        Parameter values [-].
+    order : int
+        Highest derivative wanted; derivatives above n are zero.
+    """
+    if s.size > _CHUNK:
+        # blocks that fit in cache: the n levels re-read the block n times
+        parts = [bernstein_derivatives(coef, s[i : i + _CHUNK], order) for i in range(0, s.size, _CHUNK)]
+        return [np.concatenate([p[k] for p in parts], axis=-1) for k in range(order + 1)]
+    degree = coef.shape[0] - 1
+    one_minus = 1.0 - s
+    level = np.repeat(coef[..., np.newaxis], s.size, axis=-1)
+    out: list[FloatArray | None] = [None] * (order + 1)
+    for k in range(order, degree, -1):
+        out[k] = np.zeros(coef.shape[1:] + s.shape)
+    for step in range(degree + 1):
+        remaining = degree - step  # the derivative of this order is read off now
+        if remaining <= order:
+            out[remaining] = math.perm(degree, remaining) * np.diff(level, n=remaining, axis=0)[0]
+        if step < degree:
+            level = level[:-1] * one_minus + level[1:] * s
+    return out  # type: ignore[return-value]
 
 
 def derivative_control_points(coef: FloatArray, order: int) -> FloatArray:
@@ -229,8 +271,11 @@ class BezierCurve(Curve):
             h_span=h_span,
             units={"theta": "deg", "h": "mm"},
         )
-        self._x_derivs = [derivative_control_points(x_coef, k) for k in range(5)]
-        self._y_derivs = [derivative_control_points(y_coef, k) for k in range(5)]
+        self._x_coef = x_coef
+        # de Casteljau's rounding error is at most ~2n ulp of the largest coefficient
+        # (each of its n levels adds one rounding of a convex combination)
+        self._theta_noise = 2.0 * max(self.degree, 2) * np.finfo(float).eps * float(np.max(np.abs(x_coef)))
+        self._xy_coef = np.column_stack([x_coef, y_coef])  # de Casteljau on both at once
         s_table = np.linspace(0.0, 1.0, _INVERSE_TABLE)
         self._s_table = s_table
         self._t_table = bernstein_eval(x_coef, s_table)
@@ -269,7 +314,10 @@ class BezierCurve(Curve):
         The minimum of dθ/ds lies at s = 0, s = 1 or a root of d²θ/ds².
         """
         slope = derivative_control_points(x_coef, 1)
-        candidates = _extreme_candidates(derivative_control_points(x_coef, 2)) if x_coef.size > 2 else np.array([0.0, 1.0])
+        if x_coef.size > 2:
+            candidates = _extreme_candidates(derivative_control_points(x_coef, 2))
+        else:
+            candidates = np.array([0.0, 1.0])  # a line: dθ/ds is constant
         slopes = bernstein_eval(slope, candidates)
         worst = int(np.argmin(slopes))
         if slopes[worst] > _MIN_THETA_SLOPE:
@@ -309,21 +357,24 @@ class BezierCurve(Curve):
         lo, hi = table_s[k - 1].copy(), table_s[k].copy()
         frac = (target - table_t[k - 1]) / (table_t[k] - table_t[k - 1])
         s = lo + (hi - lo) * np.clip(frac, 0.0, 1.0)
-        x0, x1 = self._x_derivs[0], self._x_derivs[1]
         active = np.ones(target.shape, dtype=bool)
         for _ in range(100):
             if not active.any():
                 break
             ia = np.nonzero(active)[0]
             sa = s[ia]
-            f = bernstein_eval(x0, sa) - target[ia]
+            theta, slope = bernstein_derivatives(self._x_coef, sa, 1)
+            f = theta - target[ia]
             lo[ia] = np.where(f < 0, sa, lo[ia])
             hi[ia] = np.where(f > 0, sa, hi[ia])
-            newton = sa - f / bernstein_eval(x1, sa)
+            newton = sa - f / slope
             inside = (newton >= lo[ia]) & (newton <= hi[ia])
             s_new = np.where(inside, newton, 0.5 * (lo[ia] + hi[ia]))
-            tiny = 2 * np.spacing(np.maximum(sa, 1e-300))
-            done = (f == 0) | (np.abs(s_new - sa) <= tiny) | (hi[ia] - lo[ia] <= tiny)
+            # θ is known only to its rounding error, so a residual that small is exact;
+            # steps are measured against the spacing of floats near 1 (s ∈ [0, 1])
+            # because rounding of θ keeps a small s from settling any closer.
+            converged = np.abs(f) <= self._theta_noise
+            done = converged | (np.abs(s_new - sa) <= _S_TOL) | (hi[ia] - lo[ia] <= _S_TOL)
             s[ia] = np.where(f == 0, sa, s_new)
             active[ia[done]] = False
         # the ends map exactly: θ(0) = θ0 and θ(1) = θn
@@ -336,8 +387,9 @@ class BezierCurve(Curve):
         Dimensionless; see :attr:`scale` (or :meth:`dimensional`) for degrees and mm.
         """
         s_arr = np.asarray(s, dtype=np.float64)
-        x = [bernstein_eval(self._x_derivs[k], s_arr) for k in range(order + 1)]
-        y = [bernstein_eval(self._y_derivs[k], s_arr) for k in range(order + 1)]
+        both = bernstein_derivatives(self._xy_coef, s_arr.reshape(-1), order)
+        x = [d[0].reshape(s_arr.shape) for d in both]
+        y = [d[1].reshape(s_arr.shape) for d in both]
         return [x[0], y[0]] + (_faa_di_bruno(x, y, order) if order >= 1 else [])
 
     def _eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:

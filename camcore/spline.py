@@ -307,7 +307,8 @@ class PointsCurve(Curve):
         if np.any(step <= 0):
             i = int(np.nonzero(step <= 0)[0][0]) + 1
             raise DegenerateCurveError(
-                f"t must increase strictly: t[{i}] = {float(t_arr[i])!r} does not exceed t[{i - 1}] = {float(t_arr[i - 1])!r}."
+                f"t must increase strictly: t[{i}] = {float(t_arr[i])!r} does not exceed "
+                f"t[{i - 1}] = {float(t_arr[i - 1])!r}."
             )
         t_span = float(t_arr[-1] - t_arr[0])
         s_min, s_max = float(np.min(s_arr)), float(np.max(s_arr))
