@@ -26,6 +26,15 @@ from .errors import NonMonotoneError, StrokeRangeError
 
 FloatArray = NDArray[np.float64]
 
+#: curves with at most this many pieces evaluate sorted T piece by piece, on contiguous
+#: slices (no per-point piece index or gathers); longer ones (measured points) gather.
+_SLICED_PIECES = 16
+
+#: sorted T is evaluated in blocks of this many points (a few per piece for a large
+#: table): each block's temporaries stay in cache and come from the heap (< 128 KiB,
+#: glibc's mmap threshold), not freshly mapped and zeroed pages for every call.
+_BLOCK = 16383
+
 #: samples per piece used to bracket the roots of a derivative before refining them;
 #: every piece of every curve we build has at most a few extrema, far fewer than this.
 _BRACKET_SAMPLES = 257
@@ -121,6 +130,16 @@ class Curve:
         """Return [S, V, A, J, dJ/dT][: order + 1] of the given pieces at t."""
         raise NotImplementedError
 
+    def _eval_piece(self, t: FloatArray, k: int, order: int, out: list[FloatArray]) -> None:
+        """Write [S, V, A, J, dJ/dT][: order + 1] of piece k at sorted t (all on it) into out.
+
+        The default uses :meth:`_eval_pieces`; subclasses may override it with a version
+        that uses the piece's coefficients directly (same numbers, less work).
+        """
+        vals = self._eval_pieces(t, np.full(t.shape, k, dtype=np.intp), order)
+        for o, v in zip(out, vals):
+            o[...] = v
+
     # ---------------------------------------------------------------- geometry
     @property
     def t_start(self) -> float:
@@ -179,31 +198,51 @@ class Curve:
         """
         t_arr = np.asarray(t, dtype=np.float64)
         flat = t_arr.reshape(-1)
-        idx = self.piece_index(flat)
+        if self.n_pieces <= _SLICED_PIECES and bool(np.all(flat[1:] >= flat[:-1])):
+            out = self._derivatives_sorted(flat, order)
+        else:
+            out = self._derivatives_gathered(flat, order)
+        return [o.reshape(t_arr.shape) for o in out]
+
+    def _derivatives_sorted(self, flat: FloatArray, order: int) -> list[FloatArray]:
+        """Sorted T (a table): each piece evaluates its contiguous slice of T."""
         out = [np.empty_like(flat) for _ in range(order + 1)]
+        # piece k holds T in [start_k, start_k+1); T7 itself belongs to the last piece
+        bounds = np.searchsorted(flat, self.piece_starts, side="left").tolist()
+        bounds.append(int(np.searchsorted(flat, self.t_end, side="right")))
+        for k in range(self.n_pieces):
+            for lo in range(bounds[k], bounds[k + 1], _BLOCK):
+                hi = min(lo + _BLOCK, bounds[k + 1])
+                self._eval_piece(flat[lo:hi], k, order, [o[lo:hi] for o in out])
+        self._fill_outside(flat, out, slice(0, bounds[0]), slice(bounds[-1], None))
+        return out
+
+    def _derivatives_gathered(self, flat: FloatArray, order: int) -> list[FloatArray]:
+        """Any T: a piece index per T, the piece coefficients gathered."""
+        idx = self.piece_index(flat)
         inside = (idx >= 0) & (idx < self.n_pieces)
         if inside.all():
             vals = self._eval_pieces(flat, idx, order)
-            out = [np.asarray(v, dtype=np.float64) for v in vals]
-        else:
-            if inside.any():
-                vals = self._eval_pieces(flat[inside], idx[inside], order)
-                for o, v in zip(out, vals):
-                    o[inside] = v
-            (s0, v0), (s7, v7) = self._ends
-            before = idx < 0
-            after = idx >= self.n_pieces
-            if before.any():
-                out[0][before] = s0
-                if order >= 1:
-                    out[1][before] = v0
-            if after.any():
-                out[0][after] = s7 + v7 * (flat[after] - self.t_end)
-                if order >= 1:
-                    out[1][after] = v7
-            for o in out[2:]:
-                o[~inside] = 0.0
-        return [o.reshape(t_arr.shape) for o in out]
+            return [np.asarray(v, dtype=np.float64) for v in vals]
+        out = [np.empty_like(flat) for _ in range(order + 1)]
+        if inside.any():
+            vals = self._eval_pieces(flat[inside], idx[inside], order)
+            for o, v in zip(out, vals):
+                o[inside] = v
+        self._fill_outside(flat, out, idx < 0, idx >= self.n_pieces)
+        return out
+
+    def _fill_outside(self, flat: FloatArray, out: list[FloatArray], before: Any, after: Any) -> None:
+        """Sections 0 and VIII: S0, V0 before T0; S7 + V7·(T − T7), V7 after T7; A = J = 0."""
+        (s0, v0), (s7, v7) = self._ends
+        out[0][before] = s0
+        out[0][after] = s7 + v7 * (flat[after] - self.t_end)
+        if len(out) > 1:
+            out[1][before] = v0
+            out[1][after] = v7
+        for o in out[2:]:
+            o[before] = 0.0
+            o[after] = 0.0
 
     def evaluate(self, t: ArrayLike) -> CurveValues:
         """S, V, A, J, Q at the times t (a table's columns)."""
@@ -222,50 +261,56 @@ class Curve:
         return self.evaluate(self.sample_times(samples))
 
     # ---------------------------------------------------------------- extrema
-    def _piece_extrema(self, k: int, sign: float) -> tuple[FloatArray, FloatArray]:
-        """Candidate times and values (rows S, V, A, J, AV) of the extrema on piece k.
+    def _extremum_candidates(self) -> tuple[FloatArray, FloatArray]:
+        """Candidate times and values (rows S, V, A, J, A·V) of the extrema, all pieces.
 
-        Candidates are the piece's two ends (one-sided limits) and the interior roots
-        of each quantity's derivative, bracketed on a fine grid and refined by
-        bisection to machine precision.
+        Candidates are each piece's two ends (one-sided limits) and the interior roots
+        of each quantity's derivative, bracketed on a grid of every piece at once and
+        refined by bisection to machine precision (vectorised over pieces and brackets).
         """
-        piece = self.pieces[k]
-        a, b = piece.start, piece.end
-        grid = np.linspace(a, b, _BRACKET_SAMPLES)
-        kk = np.full(grid.shape, k, dtype=np.intp)
-        s, v, acc, j, dj = self._eval_pieces(grid, kk, 4)
-        derivs = {0: v, 1: acc, 2: j, 3: dj, 4: j * v + acc * acc}
-        times = [np.array([a, b])]
-        for q, d in derivs.items():
-            d = np.asarray(d, dtype=np.float64)
-            change = np.nonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0)[0]
-            if change.size:
-                times.append(self._refine_roots(k, q, grid[change], grid[change + 1]))
-            zeros = np.nonzero(d == 0.0)[0]
-            if zeros.size and zeros.size < grid.size:
-                times.append(grid[zeros])
-        t_all = np.unique(np.concatenate(times))
-        kk = np.full(t_all.shape, k, dtype=np.intp)
-        s, v, acc, j = self._eval_pieces(t_all, kk, 3)
-        vals = np.vstack([s, v, acc, j, acc * v])
-        return t_all, vals
+        starts = self.piece_starts
+        ends = np.append(starts[1:], self.t_end)
+        n = self.n_pieces
+        # fewer grid points per piece when there are many small pieces (splines of many
+        # points: cubic pieces whose derivatives have at most a few roots)
+        per_piece = int(np.clip(2**18 // max(n, 1), 17, _BRACKET_SAMPLES))
+        frac = np.linspace(0.0, 1.0, per_piece)
+        grid = starts[:, None] + (ends - starts)[:, None] * frac[None, :]
+        kk = np.repeat(np.arange(n, dtype=np.intp), per_piece).reshape(n, per_piece)
+        derivs = self._derivative_rows(grid.reshape(-1), kk.reshape(-1)).reshape(5, n, per_piece)
+        times = [starts, ends]
+        pieces = [np.arange(n, dtype=np.intp), np.arange(n, dtype=np.intp)]
+        for q in range(5):
+            d = derivs[q]
+            sign = np.sign(d)
+            k_idx, i_idx = np.nonzero(sign[:, :-1] * sign[:, 1:] < 0)
+            if k_idx.size:
+                times.append(self._refine_roots(q, k_idx, grid[k_idx, i_idx], grid[k_idx, i_idx + 1]))
+                pieces.append(k_idx)
+            zk, zi = np.nonzero(d == 0.0)
+            if zk.size and zk.size < d.size:
+                times.append(grid[zk, zi])
+                pieces.append(zk)
+        t_all = np.concatenate(times)
+        k_all = np.concatenate(pieces)
+        s_, v, acc, j = self._eval_pieces(t_all, k_all, 3)
+        return t_all, np.vstack([s_, v, acc, j, acc * v])
 
-    def _refine_roots(self, k: int, quantity: int, lo: FloatArray, hi: FloatArray) -> FloatArray:
+    def _derivative_rows(self, t: FloatArray, piece: NDArray[np.intp]) -> FloatArray:
+        """Rows: dS, dV, dA, dJ (= V, A, J, J') and d(A·V) = J·V + A² at t on the pieces."""
+        _s, v, a, j, dj = self._eval_pieces(t, piece, 4)
+        return np.vstack([v, a, j, dj, j * v + a * a])
+
+    def _refine_roots(self, quantity: int, piece: NDArray[np.intp], lo: FloatArray, hi: FloatArray) -> FloatArray:
         """Bisect the derivative of ``quantity`` (0 S, 1 V, 2 A, 3 J, 4 A·V) to a root."""
         lo = lo.copy()
         hi = hi.copy()
-        kk = np.full(lo.shape, k, dtype=np.intp)
-
-        def deriv(t: FloatArray) -> FloatArray:
-            s, v, a, j, dj = self._eval_pieces(t, kk, 4)
-            return np.asarray([v, a, j, dj, j * v + a * a][quantity], dtype=np.float64)
-
-        f_lo = deriv(lo)
+        f_lo = self._derivative_rows(lo, piece)[quantity]
         for _ in range(80):
             mid = 0.5 * (lo + hi)
             if np.all((mid <= lo) | (mid >= hi)):
                 break
-            f_mid = deriv(mid)
+            f_mid = self._derivative_rows(mid, piece)[quantity]
             same = np.sign(f_mid) == np.sign(f_lo)
             lo = np.where(same, mid, lo)
             f_lo = np.where(same, f_mid, f_lo)
@@ -275,13 +320,7 @@ class Curve:
     @cached_property
     def characteristics(self) -> Characteristics:
         """Exact characteristic values over [T0, T7] (section-wise extrema)."""
-        ts, vals = [], []
-        for k in range(self.n_pieces):
-            t_k, v_k = self._piece_extrema(k, 1.0)
-            ts.append(t_k)
-            vals.append(v_k)
-        t_all = np.concatenate(ts)
-        v_all = np.hstack(vals)
+        t_all, v_all = self._extremum_candidates()
         # ties: the earliest T wins (np.argmax/argmin return the first occurrence)
         order = np.argsort(t_all, kind="stable")
         t_all = t_all[order]

@@ -57,7 +57,8 @@ class LimitExceededError(CamError):
         self.what = what
         self.requested = requested
         self.limit = limit
-        super().__init__(f"{what} is {requested}, over the limit of {limit}.")
+        shown = str(requested) if abs(requested) < 10**18 else "more than 10^18"
+        super().__init__(f"{what} is {shown}, over the limit of {limit}.")
 
 
 class NonFiniteResultError(CamError):

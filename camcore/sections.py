@@ -7,8 +7,11 @@ On each section, with τ = T − Tk the time since the section's start,
 and V, S follow by exact integration from the section's starting V_k, S_k; J = dA/dT.
 Every curve of the sine family (Makino's universal curve and all its special cases,
 the INDEXMAN MS/MCV/MT/TR curves, cycloid, simple harmonic, constant acceleration)
-is a list of such sections. Evaluation is vectorised over T: a section index per T,
-then one pass of array arithmetic with the section's coefficients gathered.
+is a list of such sections. Evaluation is vectorised over T: for sorted T (every table)
+each section evaluates its contiguous slice with its own scalar coefficients
+(:meth:`SectionCurve._eval_piece`); otherwise a section index per T, then one pass of
+array arithmetic with the section's coefficients gathered (:meth:`SectionCurve._eval_pieces`).
+Both give the same numbers.
 
 References
 ----------
@@ -18,11 +21,59 @@ H. Makino, "Universal Cam Curve and Its Application" (1977), eqs. (1)-(9).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
 from .curve import Curve, FloatArray
+
+
+class _Coef(NamedTuple):
+    """One section's coefficients as Python floats (for the per-slice evaluation)."""
+
+    start: float
+    s: float
+    v: float
+    alpha: float
+    beta: float
+    gamma: float
+    omega: float
+    b_w: float
+    g_w: float
+    b_w2: float
+    g_w2: float
+    b_wj: float
+    g_wj: float
+    b_ww: float
+    g_ww: float
+
+
+def _lincomb(out: FloatArray, const: float, terms: list[tuple[float, FloatArray | None, bool]],
+             scratch: list[FloatArray]) -> None:
+    """out[...] = const + c1·x1 + c2·x2 + …, summed left to right as the full formula reads.
+
+    A term with a zero coefficient adds exactly ±0 and is left out (no array pass). Each
+    term is (c, x, x_may_be_zero); the x here are ≥ +0 or never zero, so c·x is −0 only
+    when c < 0 and x has a zero, and only then is a zero ``const`` still added (turning
+    −0 into +0, as the full formula does). ``scratch`` holds one reusable temporary.
+    """
+    started = False
+    for coef, x, may_be_zero in terms:
+        if coef == 0.0:
+            continue
+        if not started:
+            np.multiply(x, coef, out=out)
+            if const != 0.0 or (coef < 0.0 and may_be_zero):
+                np.add(out, const, out=out)
+            started = True
+        else:
+            if not scratch:
+                scratch.append(np.empty_like(out))
+            np.multiply(x, coef, out=scratch[0])
+            np.add(out, scratch[0], out=out)
+    if not started:
+        out[...] = const
 
 
 @dataclass(frozen=True)
@@ -75,8 +126,10 @@ class SectionCurve(Curve):
             w = sec.omega
             if w > 0:
                 sn, cs = np.sin(w * tau), np.cos(w * tau)
-                s = s + v * tau + 0.5 * sec.alpha * tau**2 + sec.beta / w * (tau - sn / w) + sec.gamma / w**2 * (1 - cs)
-                v = v + sec.alpha * tau + sec.beta / w * (1 - cs) + sec.gamma / w * sn
+                # 1/ω, not ω², so a vanishingly short section cannot overflow
+                iw = 1.0 / w
+                s = s + v * tau + 0.5 * sec.alpha * tau**2 + sec.beta * iw * (tau - sn * iw) + sec.gamma * iw * iw * (1 - cs)
+                v = v + sec.alpha * tau + sec.beta * iw * (1 - cs) + sec.gamma * iw * sn
             else:
                 s = s + v * tau + 0.5 * sec.alpha * tau**2
                 v = v + sec.alpha * tau
@@ -98,6 +151,15 @@ class SectionCurve(Curve):
             "b_ww": beta * omega**2,
             "g_ww": gamma * omega**2,
         }
+        # the same coefficients per section as Python floats; a constant-acceleration
+        # section (ω = 0) has sin ωτ = 0, cos ωτ = 1: its A is the constant α + γ
+        self._rows: list[_Coef] = []
+        for k in range(n):
+            row = {name: float(col[k]) + 0.0 for name, col in self._coef.items()}  # + 0.0: no −0
+            if row["omega"] == 0.0:
+                row["alpha"] = (row["alpha"] + row["beta"] * 0.0) + row["gamma"] + 0.0
+                row.update(beta=0.0, gamma=0.0)
+            self._rows.append(_Coef(**row))
 
     def _eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
         c = self._coef
@@ -120,3 +182,53 @@ class SectionCurve(Curve):
         if order >= 4:
             out.append(-c["b_ww"][piece] * sn - c["g_ww"][piece] * cs)
         return out
+
+    def _eval_piece(self, t: FloatArray, k: int, order: int, out: list[FloatArray]) -> None:
+        """[S, V, A, J, dJ/dT][: order + 1] of section k at sorted t (all in it) into ``out``.
+
+        The formulas of :meth:`_eval_pieces` with this section's scalar coefficients:
+        no gathers, and no work for terms whose coefficient is zero (a quarter-sine
+        section has only one of β, γ; most have α = 0).
+        """
+        c = self._rows[k]
+        scratch: list[FloatArray] = []
+        tau = np.subtract(t, c.start)
+        if tau.size and tau[0] == 0.0:
+            # t = −0.0 at a section starting at +0.0 gives τ = −0.0; the formulas want +0
+            tau[: np.searchsorted(tau, 0.0, side="right")] = 0.0
+        sn = cs = omc = None
+        if c.omega > 0.0:
+            wt = np.multiply(tau, c.omega)
+            sn = np.sin(wt)
+            cs = np.cos(wt, out=wt)
+            if c.g_w2 != 0.0 or (order >= 1 and c.b_w != 0.0):
+                omc = np.subtract(1.0, cs)
+        # S = s + τ·(v0 + α/2·τ + β/ω) − β/ω²·sin ωτ + γ/ω²·(1 − cos ωτ)
+        if c.alpha != 0.0:
+            s_out = out[0]
+            np.multiply(tau, 0.5 * c.alpha, out=s_out)
+            s_out += c.v
+            s_out += c.b_w
+            s_out *= tau
+            s_out += c.s
+            _lincomb_tail(s_out, [(-c.b_w2, sn), (c.g_w2, omc)], scratch)
+        else:
+            _lincomb(out[0], c.s, [(c.v + c.b_w, tau, True), (-c.b_w2, sn, True), (c.g_w2, omc, True)], scratch)
+        if order >= 1:  # V = v0 + α·τ + β/ω·(1 − cos ωτ) + γ/ω·sin ωτ
+            _lincomb(out[1], c.v, [(c.alpha, tau, True), (c.b_w, omc, True), (c.g_w, sn, True)], scratch)
+        if order >= 2:  # A = α + β·sin ωτ + γ·cos ωτ
+            _lincomb(out[2], c.alpha, [(c.beta, sn, True), (c.gamma, cs, False)], scratch)
+        if order >= 3:  # J = βω·cos ωτ − γω·sin ωτ
+            _lincomb(out[3], 0.0, [(c.b_wj, cs, False), (-c.g_wj, sn, True)], scratch)
+        if order >= 4:  # dJ/dT = −βω²·sin ωτ − γω²·cos ωτ
+            _lincomb(out[4], -0.0, [(-c.b_ww, sn, True), (-c.g_ww, cs, False)], scratch)
+
+
+def _lincomb_tail(out: FloatArray, terms: list[tuple[float, FloatArray | None]], scratch: list[FloatArray]) -> None:
+    """out += c1·x1 + c2·x2 … term by term, leaving out zero coefficients."""
+    for coef, x in terms:
+        if coef != 0.0:
+            if not scratch:
+                scratch.append(np.empty_like(out))
+            np.multiply(x, coef, out=scratch[0])
+            np.add(out, scratch[0], out=out)

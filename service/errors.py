@@ -72,7 +72,9 @@ async def cam_error_handler(request: Request, exc: Exception) -> JSONBody:
     if isinstance(exc, UnknownCurveError):
         extra["suggestions"] = exc.suggestions
     if isinstance(exc, LimitExceededError):
-        extra["limit"] = {"name": exc.what, "requested": exc.requested, "limit": exc.limit}
+        # a fuzzer may ask for more than 64 bits hold; the sentence still carries the number
+        requested = exc.requested if abs(exc.requested) < 2**63 else None
+        extra["limit"] = {"name": exc.what, "requested": requested, "limit": exc.limit}
     return JSONBody(error_body(str(exc), **extra), status_code=status)
 
 
