@@ -142,7 +142,10 @@ def _real_roots_in_unit_interval(coef: FloatArray) -> FloatArray:
     if degree < 1 or not np.any(coef):
         return np.zeros(0)
     cheb = Chebyshev.interpolate(lambda x: bernstein_eval(coef, x), degree, domain=[0.0, 1.0])
-    roots = cheb.roots()
+    try:
+        roots = cheb.roots()
+    except np.linalg.LinAlgError as exc:  # only for coefficients at the edge of float range
+        raise DegenerateCurveError("the control points are too extreme to locate the curve's turning points.") from exc
     # a double root may come out with a tiny imaginary part: keep it as a candidate
     real = roots[np.abs(roots.imag) <= 1e-6].real
     return np.clip(real[(real >= -1e-9) & (real <= 1.0 + 1e-9)], 0.0, 1.0)
@@ -250,6 +253,13 @@ class BezierCurve(Curve):
             raise DegenerateCurveError(
                 "the last control point's θ must be greater than the first one's: the drive "
                 "angle has to increase from the start of the lift to its end."
+            )
+        # a span lost in the rounding of the control points' own size (found by fuzzing:
+        # a subnormal span overflowed the normalisation) is no drive angle at all
+        if theta_span <= 1e-9 * max(1.0, float(np.max(np.abs(theta)))):
+            raise DegenerateCurveError(
+                f"the drive angle spans only {theta_span!r}° from the first to the last control point; "
+                "a lift curve needs a span of at least 1e-9 of the angles' size."
             )
         # θ normalised to [0, 1]; the mean of dθ/ds is then 1, so slopes compare to 1
         x_coef = (theta - theta[0]) / theta_span

@@ -39,6 +39,10 @@ _BLOCK = 16383
 #: every piece of every curve we build has at most a few extrema, far fewer than this.
 _BRACKET_SAMPLES = 257
 
+#: S levels of the inverse's start table: cells narrow enough that a linear start is
+#: within ~1e-9 of the root where V is not small, so one Newton step reaches machine precision
+_INVERSE_CELLS = 16384
+
 
 @dataclass(frozen=True)
 class CurveValues:
@@ -405,18 +409,11 @@ class Curve:
         s_nodes = self.derivatives(t_nodes, 0)[0]
         return t_nodes, s_nodes
 
-    def inverse(self, s: ArrayLike) -> FloatArray:
-        """Exact inverse: for each displacement s, the first T in [T0, T7] with S(T) = s.
+    def _inverse_bracketed(self, target: FloatArray, direction: int) -> FloatArray:
+        """First T with S(T) = target (validated, flat), by searching the node table.
 
-        Safeguarded Newton iteration on the closed form, vectorised over s, inside a
-        bracket from a table of S at the break points and a 1/1024 grid; it stops when
-        the bracket or the Newton step reaches the spacing of floating-point numbers.
-        Raises :class:`NonMonotoneError` for a curve that is not monotone and
-        :class:`StrokeRangeError` for s outside the stroke.
+        Robust and slow (a binary search per target): used to build :attr:`_inverse_grid`.
         """
-        direction = self._require_monotone()
-        s_arr = np.asarray(s, dtype=np.float64)
-        target = self._check_stroke(s_arr.reshape(-1))
         t_nodes, s_nodes = self._inverse_nodes
         key = s_nodes * direction
         goal = target * direction
@@ -455,6 +452,90 @@ class Curve:
             lo[ia] = lo_a
             hi[ia] = hi_a
             active[ia[done]] = False
+        return t
+
+    @cached_property
+    def _inverse_grid(self) -> tuple[FloatArray, FloatArray, NDArray[np.intp]]:
+        """S levels evenly over the stroke, the first T reaching each, and each cell's piece.
+
+        Built once per curve (cached) with the robust bracketing solver.
+
+        A cell [T_i, T_i+1] lying inside one piece records that piece (−1 where a break
+        point falls inside), so the inverse needs no search per target.
+        """
+        direction = self._require_monotone()
+        frac = np.arange(_INVERSE_CELLS + 1) / _INVERSE_CELLS
+        levels = self.s_start + (self.s_end - self.s_start) * frac
+        levels[-1] = self.s_end
+        t_levels = self._inverse_bracketed(levels, direction)
+        t_levels[0], t_levels[-1] = self.t_start, self.t_end
+        first = np.searchsorted(self.piece_starts, t_levels[:-1], side="right") - 1
+        last = np.searchsorted(self.piece_starts, t_levels[1:], side="left") - 1
+        first = np.clip(first, 0, self.n_pieces - 1)
+        last = np.clip(last, 0, self.n_pieces - 1)
+        cell_piece = np.where(first == last, first, -1).astype(np.intp)
+        return levels, t_levels, cell_piece
+
+    def inverse(self, s: ArrayLike) -> FloatArray:
+        """Exact inverse: for each displacement s, the first T in [T0, T7] with S(T) = s.
+
+        Vectorised safeguarded Newton iteration on the closed form. The start and the
+        bracket come from a table of the T at which S reaches 16384 evenly spaced levels
+        (so each target finds its cell by arithmetic, not by search); iteration stops
+        when the residual is at the rounding level of S, or when the Newton step, its
+        predicted error |A/2V|·δ², or the bracket reach the spacing of floating-point
+        numbers. Raises :class:`NonMonotoneError` for a curve that is not monotone and
+        :class:`StrokeRangeError` for s outside the stroke.
+        """
+        direction = self._require_monotone()
+        s_arr = np.asarray(s, dtype=np.float64)
+        target = self._check_stroke(s_arr.reshape(-1))
+        levels, t_levels, cell_piece = self._inverse_grid
+        span = self.s_end - self.s_start
+        cell = np.clip(((target - self.s_start) / span * _INVERSE_CELLS).astype(np.intp), 0, _INVERSE_CELLS - 1)
+        lo = t_levels[cell]
+        hi = t_levels[cell + 1]
+        s_lo = levels[cell]
+        s_hi = levels[cell + 1]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            frac = np.where(s_hi != s_lo, (target - s_lo) / (s_hi - s_lo), 0.0)
+        t = lo + (hi - lo) * np.clip(frac, 0.0, 1.0)
+        piece = cell_piece[cell]
+        goal = target * direction
+        # the working set shrinks as targets converge; idx maps it back into t
+        idx = np.arange(t.size)
+        tw, low, high, gw, pw = t, lo.copy(), hi.copy(), goal, piece
+        mixed = pw < 0
+        for _ in range(100):
+            if idx.size == 0:
+                break
+            pe = pw.copy()
+            if mixed.any():
+                pe[mixed] = np.clip(self.piece_index(tw[mixed]), 0, self.n_pieces - 1)
+            s_now, v_now, a_now = self._eval_pieces(tw, pe, 2)
+            f = s_now * direction - gw
+            low = np.where(f < 0, tw, low)
+            high = np.where(f > 0, tw, high)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                newton = tw - f / (v_now * direction)
+            ok = (newton > low) & (newton < high)  # false for nan and inf too
+            t_new = np.where(ok, newton, 0.5 * (low + high))
+            t_new = np.where(f == 0, tw, t_new)
+            tiny = 4 * np.spacing(np.maximum(np.abs(tw), 1.0))
+            # a residual at the rounding level of S cannot be improved: dT = dS / V
+            at_rounding = np.abs(f) <= 2 * np.spacing(np.abs(s_now))
+            t_new = np.where(at_rounding, tw, t_new)
+            # Newton's error after a step δ is about |A / 2V|·δ²: below an ulp, the step is final
+            with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+                settled = ok & (np.abs(a_now / (2 * v_now)) * (t_new - tw) ** 2 <= 0.25 * tiny)
+            done = at_rounding | settled | (np.abs(t_new - tw) <= tiny) | (high - low <= tiny)
+            t[idx] = t_new
+            keep = ~done
+            if not keep.all():
+                idx, tw, low, high, gw, pw, mixed = (
+                    idx[keep], t_new[keep], low[keep], high[keep], gw[keep], pw[keep], mixed[keep])
+            else:
+                tw = t_new
         return t.reshape(s_arr.shape)
 
     def inverse_table(self, s: ArrayLike, step: float, decimals: int | None = None) -> CurveValues:

@@ -33,6 +33,9 @@ from .sections import Section, SectionCurve
 
 PI = math.pi
 
+#: shortest non-empty section, as a fraction of T7 − T0: its jerk ~ A/length stays finite
+MIN_SECTION = 1e-9
+
 
 def _check_finite(name: str, value: float) -> float:
     value = float(value)
@@ -57,6 +60,15 @@ def check_break_points(t: Sequence[float]) -> tuple[float, ...]:
             )
     if not pts[7] > pts[0]:
         raise InvalidBreakPointsError("the curve needs T7 > T0 (a stroke of positive duration).")
+    shortest = MIN_SECTION * (pts[7] - pts[0])
+    for i in range(7):
+        gap = pts[i + 1] - pts[i]
+        if 0 < gap < shortest:
+            raise InvalidBreakPointsError(
+                f"section T{i}..T{i + 1} is {gap!r} long: a section must be empty (equal break points) "
+                f"or at least {MIN_SECTION:g} of the stroke's duration; shorter ones only add rounding noise "
+                "and overflowing jerk."
+            )
     return pts
 
 

@@ -12,6 +12,7 @@ from .middleware import BodySizeLimit
 from .indexers import IndexerService
 from .profiles import ProfileService
 from .routes import curves, health, indexers, profiles
+from .security import install_security
 from .settings import Settings
 
 DESCRIPTION = """Cam motion curves (Makino's universal cam curve, the INDEXMAN catalog curves,
@@ -33,4 +34,5 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.include_router(indexers.router)
     app.include_router(profiles.router)
     app.add_middleware(BodySizeLimit, max_body_bytes=settings.max_body_bytes)
+    install_security(app, settings)  # last: outermost (CORS, then the key, then the body limit)
     return app

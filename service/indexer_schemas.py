@@ -8,7 +8,8 @@ from pydantic import BaseModel, Field, model_validator
 
 from .schemas import BIG, CurveSpec, NamedCurveSpec, Spec
 
-Positive = Annotated[float, Field(allow_inf_nan=False, gt=0, le=BIG)]
+#: physical lower bounds: a subnormal speed or time would make th² underflow to zero
+Positive = Annotated[float, Field(allow_inf_nan=False, ge=1e-6, le=BIG)]
 NonNegative = Annotated[float, Field(allow_inf_nan=False, ge=0, le=BIG)]
 
 
@@ -16,9 +17,9 @@ class IndexerSpec(Spec):
     """A cam indexer (stops) or oscillating unit (swing angle) at constant input speed."""
 
     stops: int | None = Field(None, ge=1, le=100_000, description="n, stops per output turn")
-    swing_angle_deg: Annotated[float, Field(allow_inf_nan=False, gt=0, le=360)] | None = Field(
+    swing_angle_deg: Annotated[float, Field(allow_inf_nan=False, ge=1e-6, le=360)] | None = Field(
         None, description="ψ, output swing of an oscillating unit (instead of stops)")
-    indexing_angle_deg: Annotated[float, Field(allow_inf_nan=False, gt=0, le=360)] = Field(
+    indexing_angle_deg: Annotated[float, Field(allow_inf_nan=False, ge=1e-6, le=360)] = Field(
         description="θh, input angle per index")
     dwells: int = Field(1, ge=1, le=360, description="z, indexes per input turn")
     speed_rpm: Positive | None = Field(None, description="N, input speed")

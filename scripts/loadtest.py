@@ -1,0 +1,335 @@
+"""Load test: 64 concurrent connections against a real uvicorn, for a bounded time.
+
+    python -m scripts.loadtest                    # starts `python -m service` on a free loopback port
+    python -m scripts.loadtest --seconds 20       # shorter run
+    python -m scripts.loadtest --url http://127.0.0.1:8000   # an already running server (loopback only)
+
+The mix (many distinct specs, drawn from a fixed seed): POST /v1/curves/table (random
+universal break points, Makino curve 4 with random T1 ≤ T3, named curves; JSON or CSV),
+POST /v1/curves/characteristics, POST /v1/curves/inverse (exact and table method),
+GET /v1/curves/{name}/table?format=csv. It reports requests, errors, p50/p99 latency,
+the server's RSS (VmRSS from /proc/<pid>/status, when this script started the server)
+at start and end, the cache statistics of /health, and checks that a sample of answers
+is identical to the same requests against a freshly started (cold) server — or, with
+--url, to camcore computing them directly.
+
+It stops by itself: after --seconds, or after --max-requests, whichever comes first.
+Exit status 1 when there were errors or mismatches.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import ipaddress
+import json
+import math
+import os
+import random
+import socket
+import subprocess
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+from urllib.parse import urlsplit
+
+import httpx
+
+ROOT = Path(__file__).resolve().parents[1]
+NAMED = ["MS", "MCV50", "MCV25", "MT", "TR", "cycloid", "simple-harmonic", "3-4-5", "4-5-6-7",
+         "trapecloid-2", "one-dwell-cycloid", "asymmetric-cycloid", "constant-velocity"]
+
+
+# ----------------------------------------------------------------------------- the server
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+def require_loopback(url: str) -> str:
+    host = urlsplit(url).hostname or ""
+    try:
+        loopback = ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        loopback = host == "localhost"
+    if not loopback:
+        raise SystemExit(f"refusing to load-test {host!r}: only loopback hosts (127.0.0.0/8, ::1, localhost)")
+    return url.rstrip("/")
+
+
+class Server:
+    """`python -m service` on a free loopback port, as the README runs it."""
+
+    def __init__(self, extra_env: dict[str, str] | None = None):
+        self.port = free_port()
+        self.url = f"http://127.0.0.1:{self.port}"
+        env = {**os.environ, "CAMCORE_HOST": "127.0.0.1", "CAMCORE_PORT": str(self.port),
+               "CAMCORE_WORKERS": "1", "CAMCORE_LOG_LEVEL": "warning", **(extra_env or {})}
+        self.proc = subprocess.Popen([sys.executable, "-m", "service"], cwd=ROOT, env=env,
+                                     stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+
+    def wait_ready(self, timeout: float = 30.0) -> None:
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            if self.proc.poll() is not None:
+                err = self.proc.stderr.read().decode() if self.proc.stderr else ""
+                raise RuntimeError(f"server exited: {err}")
+            try:
+                if httpx.get(f"{self.url}/health", timeout=1).status_code == 200:
+                    return
+            except httpx.TransportError:
+                pass
+            time.sleep(0.1)
+        raise RuntimeError("server did not start in time")
+
+    def rss_kib(self) -> int | None:
+        return rss_kib(self.proc.pid)
+
+    def stop(self) -> None:
+        self.proc.terminate()
+        try:
+            self.proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            self.proc.wait()
+        if self.proc.stderr:
+            self.proc.stderr.close()
+
+
+def rss_kib(pid: int) -> int | None:
+    try:
+        for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1])
+    except OSError:
+        return None
+    return None
+
+
+# ----------------------------------------------------------------------------- the requests
+@dataclass(frozen=True, eq=False)
+class Req:
+    kind: str
+    method: str
+    path: str
+    json: Any = None
+    params: dict[str, Any] | None = None
+    csv: bool = False
+
+    def headers(self) -> dict[str, str]:
+        return {"Accept": "text/csv"} if self.csv else {}
+
+
+def random_universal(rng: random.Random) -> dict[str, Any]:
+    while True:
+        inner = sorted(rng.choice([rng.random(), rng.randint(0, 32) / 32]) for _ in range(6))
+        t = [0.0, *inner, 1.0]
+        if t[3] >= 1 / 32 and 1 - t[4] >= 1 / 32:
+            return {"type": "universal", "t": t}
+
+
+def random_spec(rng: random.Random) -> dict[str, Any]:
+    r = rng.random()
+    if r < 0.45:
+        return random_universal(rng)
+    if r < 0.75:
+        t3 = rng.uniform(1 / 32, 0.5)
+        return {"type": "makino", "number": 4, "t1": rng.uniform(t3 / 8, t3), "t3": t3}
+    spec: dict[str, Any] = {"type": "named", "name": rng.choice(NAMED)}
+    if rng.random() < 0.3:
+        spec["direction"] = "return"
+    return spec
+
+
+def make_request(rng: random.Random) -> Req:
+    spec = random_spec(rng)
+    r = rng.random()
+    if r < 0.35:
+        return Req("table", "POST", "/v1/curves/table", {"curve": spec, "samples": rng.choice([11, 101, 361, 1001])},
+                   csv=rng.random() < 0.3)
+    if r < 0.55:
+        return Req("characteristics", "POST", "/v1/curves/characteristics", {"curve": spec})
+    if r < 0.80:
+        body: dict[str, Any] = {"curve": spec, "s": sorted(rng.random() for _ in range(rng.choice([1, 8, 64])))}
+        if rng.random() < 0.3:
+            body.update(method="table", table_decimals=5)
+        return Req("inverse", "POST", "/v1/curves/inverse", body)
+    params = {"samples": rng.choice([101, 361, 1001]), "format": "csv"}
+    return Req("csv", "GET", f"/v1/curves/{rng.choice(NAMED)}/table", params=params)
+
+
+async def send(client: httpx.AsyncClient, req: Req) -> httpx.Response:
+    return await client.request(req.method, req.path, json=req.json, params=req.params, headers=req.headers())
+
+
+# ----------------------------------------------------------------------------- the run
+@dataclass
+class Stats:
+    latencies: list[float] = field(default_factory=list)
+    errors: dict[str, int] = field(default_factory=dict)
+    by_kind: dict[str, int] = field(default_factory=dict)
+    answers: dict[int, bytes] = field(default_factory=dict)  # pool index → body
+
+    def error(self, what: str) -> None:
+        self.errors[what] = self.errors.get(what, 0) + 1
+
+
+def percentile(values: list[float], q: float) -> float:
+    if not values:
+        return math.nan
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, max(0, math.ceil(q * len(ordered)) - 1))]
+
+
+def request_pool(seed: int, specs: int) -> list[Req]:
+    rng = random.Random(seed)
+    return [make_request(rng) for _ in range(specs)]  # distinct specs, re-requested (the caches matter)
+
+
+async def run_load(url: str, pool: list[Req], seconds: float, connections: int, max_requests: int, seed: int,
+                   sample_size: int) -> Stats:
+    rng = random.Random(seed + 1)
+    stats = Stats()
+    sampled = set(rng.sample(range(len(pool)), min(sample_size, len(pool))))
+    deadline = time.monotonic() + seconds
+    issued = 0
+    limits = httpx.Limits(max_connections=connections, max_keepalive_connections=connections)
+
+    async with httpx.AsyncClient(base_url=url, limits=limits, timeout=30.0) as client:
+
+        async def worker(wid: int) -> None:
+            nonlocal issued
+            local = random.Random(seed * 1000 + wid)
+            while time.monotonic() < deadline and issued < max_requests:
+                issued += 1
+                i = local.randrange(len(pool))
+                req = pool[i]
+                t0 = time.perf_counter()
+                try:
+                    r = await send(client, req)
+                except httpx.HTTPError as exc:
+                    stats.error(type(exc).__name__)
+                    continue
+                stats.latencies.append(time.perf_counter() - t0)
+                stats.by_kind[req.kind] = stats.by_kind.get(req.kind, 0) + 1
+                if r.status_code != 200:
+                    stats.error(f"HTTP {r.status_code} {req.kind}")
+                elif i in sampled and i not in stats.answers:
+                    stats.answers[i] = r.content
+
+        await asyncio.gather(*(worker(w) for w in range(connections)))
+    return stats
+
+
+async def cold_answers(url: str, pool: list[Req], indices: list[int]) -> dict[int, bytes]:
+    out = {}
+    async with httpx.AsyncClient(base_url=url, timeout=30.0) as client:
+        for i in indices:
+            r = await send(client, pool[i])
+            out[i] = r.content if r.status_code == 200 else f"HTTP {r.status_code}".encode()
+    return out
+
+
+def direct_answer(req: Req) -> dict[str, list[float]] | None:
+    """camcore's own numbers for a JSON table or characteristics request (for --url runs)."""
+    import numpy as np
+
+    from service.core import CurveService
+    from service.schemas import CharacteristicsRequest, TableRequest
+    from service.settings import Settings
+
+    service = CurveService(Settings())
+    if req.kind == "table" and not req.csv:
+        body = TableRequest.model_validate(req.json)
+        cols = service.table_columns(body.curve, body.samples, body.t)
+        return {k: np.asarray(v).tolist() for k, v in cols.items()}
+    if req.kind == "characteristics":
+        body2 = CharacteristicsRequest.model_validate(req.json)
+        return dict(service.characteristics(body2.curve))
+    return None
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--url", help="target an already running server (loopback only)")
+    ap.add_argument("--seconds", type=float, default=60.0, help="duration (default 60)")
+    ap.add_argument("--connections", type=int, default=64)
+    ap.add_argument("--max-requests", type=int, default=1_000_000, help="hard cap on requests")
+    ap.add_argument("--specs", type=int, default=2000, help="distinct requests in the pool")
+    ap.add_argument("--sample", type=int, default=200, help="answers compared with a cold run")
+    ap.add_argument("--seed", type=int, default=20240601)
+    ap.add_argument("--json", help="write the figures to this file as JSON")
+    args = ap.parse_args(argv)
+    if not 0 < args.seconds <= 3600:
+        ap.error("--seconds must be in (0, 3600]")
+
+    server = None
+    if args.url:
+        url = require_loopback(args.url)
+    else:
+        server = Server()
+        server.wait_ready()
+        url = server.url
+    report: dict[str, Any] = {"url": url, "connections": args.connections, "seconds": args.seconds}
+    try:
+        if server:
+            report["rss_start_kib"] = server.rss_kib()
+        t0 = time.monotonic()
+        pool = request_pool(args.seed, args.specs)
+        stats = asyncio.run(run_load(url, pool, args.seconds, args.connections, args.max_requests, args.seed,
+                                     args.sample))
+        elapsed = time.monotonic() - t0
+        if server:
+            report["rss_end_kib"] = server.rss_kib()
+        report["caches"] = httpx.get(f"{url}/health", timeout=10).json()["caches"]
+    finally:
+        if server:
+            server.stop()
+
+    n = len(stats.latencies)
+    report.update(
+        requests=n + sum(v for k, v in stats.errors.items() if not k.startswith("HTTP")),
+        elapsed_s=round(elapsed, 2),
+        throughput_rps=round(n / elapsed, 1),
+        by_kind=stats.by_kind,
+        errors=stats.errors,
+        p50_ms=round(percentile(stats.latencies, 0.50) * 1000, 2),
+        p99_ms=round(percentile(stats.latencies, 0.99) * 1000, 2),
+        max_ms=round(max(stats.latencies, default=math.nan) * 1000, 2),
+    )
+
+    # identical to a cold run
+    indices = sorted(stats.answers)
+    mismatches = 0
+    if args.url:
+        checked = 0
+        for i in indices:
+            direct = direct_answer(pool[i])
+            if direct is None:
+                continue
+            checked += 1
+            if json.loads(stats.answers[i]) != json.loads(json.dumps(direct)):
+                mismatches += 1
+        report["cold_check"] = {"against": "camcore directly", "compared": checked, "mismatches": mismatches}
+    else:
+        cold = Server()
+        try:
+            cold.wait_ready()
+            fresh = asyncio.run(cold_answers(cold.url, pool, indices))
+        finally:
+            cold.stop()
+        mismatches = sum(1 for i in indices if fresh[i] != stats.answers[i])
+        report["cold_check"] = {"against": "a freshly started server, byte for byte", "compared": len(indices),
+                                "mismatches": mismatches}
+
+    print(json.dumps(report, indent=1))
+    if args.json:
+        Path(args.json).write_text(json.dumps(report, indent=1) + "\n", encoding="utf-8")
+    return 1 if (stats.errors or mismatches) else 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
