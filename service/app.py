@@ -11,7 +11,8 @@ from .errors import install_error_handlers
 from .middleware import BodySizeLimit
 from .indexers import IndexerService
 from .profiles import ProfileService
-from .routes import curves, health, indexers, profiles
+from .offline_docs import install_offline_docs
+from .routes import curves, health, indexers, plots, profiles
 from .security import install_security
 from .settings import Settings
 
@@ -23,7 +24,8 @@ on `Accept: text/csv` (POST) or `?format=csv` (GET)."""
 
 def create_app(settings: Settings | None = None) -> FastAPI:
     settings = settings or Settings()
-    app = FastAPI(title="camcore", version=camcore.__version__, description=DESCRIPTION)
+    app = FastAPI(title="camcore", version=camcore.__version__, description=DESCRIPTION,
+                  docs_url=None, redoc_url=None)  # served offline by install_offline_docs
     app.state.settings = settings
     app.state.curve_service = CurveService(settings)
     app.state.indexer_service = IndexerService(app.state.curve_service)
@@ -33,6 +35,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.include_router(curves.router)
     app.include_router(indexers.router)
     app.include_router(profiles.router)
+    app.include_router(plots.router)
+    install_offline_docs(app)  # before security: it publishes the asset paths left open
     app.add_middleware(BodySizeLimit, max_body_bytes=settings.max_body_bytes)
     install_security(app, settings)  # last: outermost (CORS, then the key, then the body limit)
     return app

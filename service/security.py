@@ -39,6 +39,8 @@ CORS_HEADERS = ["Content-Type", "Accept", API_KEY_HEADER]
 def open_paths(app: FastAPI) -> frozenset[str]:
     """Paths served without a key: the health check and the app's documentation pages."""
     paths = {"/health", app.docs_url, app.redoc_url, app.openapi_url, app.swagger_ui_oauth2_redirect_url}
+    # the offline docs' own scripts and styles, or the pages would load blank behind a key
+    paths |= set(getattr(app.state, "docs_asset_paths", ()))
     return frozenset(p for p in paths if p)
 
 

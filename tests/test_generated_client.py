@@ -1,0 +1,191 @@
+"""A Python client generated from the committed openapi/openapi.json talks to the real service.
+
+``openapi-python-client`` generates the package into a temporary folder (it is not committed:
+see docs/ecosystem.md); the service runs as users start it (``python -m service`` on a
+loopback port); the numbers that come back through the generated models are the catalog's.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+import os
+import socket
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+import httpx
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+SPEC = ROOT / "openapi" / "openapi.json"
+PACKAGE = "camcore_client"
+pytestmark = pytest.mark.e2e
+
+#: no formatter post-hooks (ruff need not be on PATH); image answers are bytes (the generator
+#: knows application/json, text/* and application/octet-stream only)
+CONFIG = """\
+post_hooks: []
+content_type_overrides:
+  image/png: application/octet-stream
+  image/svg+xml: application/octet-stream
+"""
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@pytest.fixture(scope="module")
+def client_package(tmp_path_factory: pytest.TempPathFactory) -> Iterator[ModuleType]:
+    try:
+        import openapi_python_client  # noqa: F401
+    except ImportError:
+        pytest.fail("openapi-python-client is not installed (it is a test dependency in requirements.lock)",
+                    pytrace=False)
+    out = tmp_path_factory.mktemp("generated")
+    config = out / "config.yaml"
+    config.write_text(CONFIG, encoding="utf-8")
+    proc = subprocess.run(
+        [sys.executable, "-m", "openapi_python_client", "generate", "--path", str(SPEC),
+         "--output-path", str(out / PACKAGE), "--meta", "none", "--config", str(config)],
+        capture_output=True, text=True, timeout=300, check=False)
+    log = proc.stdout + proc.stderr
+    assert proc.returncode == 0, log
+    # a warning means an operation or answer was left out of the client: our schema must not cause one
+    assert "Warning" not in log and "WARNING" not in log, log
+    sys.path.insert(0, str(out))
+    try:
+        yield importlib.import_module(PACKAGE)
+    finally:
+        sys.path.remove(str(out))
+        for name in [m for m in sys.modules if m == PACKAGE or m.startswith(PACKAGE + ".")]:
+            del sys.modules[name]
+
+
+@pytest.fixture(scope="module")
+def base_url() -> Iterator[str]:
+    port = free_port()
+    env = {**os.environ, "CAMCORE_HOST": "127.0.0.1", "CAMCORE_PORT": str(port), "CAMCORE_LOG_LEVEL": "warning"}
+    proc = subprocess.Popen([sys.executable, "-m", "service"], cwd=ROOT, env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    url = f"http://127.0.0.1:{port}"
+    try:
+        deadline = time.monotonic() + 30
+        while True:
+            try:
+                if httpx.get(f"{url}/health", timeout=1).status_code == 200:
+                    break
+            except httpx.TransportError:
+                pass
+            if proc.poll() is not None or time.monotonic() > deadline:
+                out = proc.stdout.read().decode() if proc.stdout else ""
+                raise RuntimeError(f"server did not start: {out}")
+            time.sleep(0.1)
+        yield url
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+        if proc.stdout:
+            proc.stdout.close()
+
+
+@pytest.fixture(scope="module")
+def api(client_package: ModuleType, base_url: str) -> Iterator[Any]:
+    with client_package.Client(base_url=base_url, raise_on_unexpected_status=True, timeout=30) as client:
+        yield client
+
+
+def module(name: str) -> Any:
+    return importlib.import_module(f"{PACKAGE}.{name}")
+
+
+def test_generated_modules_read_well(client_package: ModuleType) -> None:
+    root = Path(client_package.__file__).parent
+    modules = {str(p.relative_to(root / "api")) for p in (root / "api").rglob("*.py") if p.name != "__init__.py"}
+    for expected in ("curves/sample_curve.py", "curves/invert_curve.py", "curves/sample_named_curve.py",
+                     "curves/plot_curve.py", "indexers/size_indexer.py", "indexers/plot_indexer_motion.py",
+                     "profiles/compute_profile.py", "profiles/plot_profile.py", "service/get_health.py"):
+        assert expected in modules, sorted(modules)
+    assert all(len(Path(m).stem) <= 30 for m in modules), sorted(modules)
+
+
+def test_sample_curve_table(api: Any) -> None:
+    models = module("models")
+    sample_curve = module("api.curves.sample_curve")
+    table = sample_curve.sync(client=api, body=models.TableRequest(curve=models.NamedCurveSpec(name="MS"),
+                                                                   samples=101))
+    assert isinstance(table, models.CurveTable), table
+    # INDEXMAN MS table row T = 0.30: S = 0.17789
+    assert round(table.t[30], 10) == 0.3 and round(table.s[30], 5) == 0.17789
+    assert len(table.s) == 101 and table.s[0] == 0.0 and math.isclose(table.s[-1], 1.0)
+
+
+def test_sample_named_curve_and_errors(api: Any) -> None:
+    models = module("models")
+    sample_named_curve = module("api.curves.sample_named_curve")
+    table = sample_named_curve.sync("MS", client=api, samples=11)
+    assert isinstance(table, models.CurveTable) and len(table.t) == 11
+    missing = sample_named_curve.sync_detailed("cycloyd", client=api)
+    assert missing.status_code == 404
+    assert isinstance(missing.parsed, models.ErrorAnswer) and "cycloyd" in missing.parsed.detail
+
+
+def test_invert_curve(api: Any) -> None:
+    models = module("models")
+    invert_curve = module("api.curves.invert_curve")
+    answer = invert_curve.sync(client=api, body=models.InverseRequest(curve=models.NamedCurveSpec(name="MS"),
+                                                                      s=[0.17789]))
+    assert isinstance(answer, models.InverseTable), answer
+    assert round(answer.t[0], 4) == 0.3  # exact inverse of the table row above
+
+
+def test_size_indexer(api: Any) -> None:
+    models = module("models")
+    size_indexer = module("api.indexers.size_indexer")
+    indexer = models.IndexerSpec(stops=6, indexing_angle_deg=270, speed_rpm=60)
+    load = models.LoadSpec(parts=[models.LoadPartSpec(shape=models.LoadPartSpecShape.DISC, mass_kg=50,
+                                                      diameter_mm=600)],
+                           friction_coefficient=0.1, friction_radius_mm=200)
+    answer = size_indexer.sync(client=api, body=models.SizingRequest(indexer=indexer, load=load))
+    assert isinstance(answer, models.SizingAnswer), answer
+    # disc 50 kg Ø600: I = m D²/8 = 2.25 kg·m²; α max = (π/3)/0.75² · Am(MS) = 10.2913 rad/s²
+    assert math.isclose(answer.inertia_kgm2, 2.25, rel_tol=1e-15)
+    assert math.isclose(answer.alpha_max_rad_s2, math.pi / 3 / 0.75**2 * 5.52795707054409, rel_tol=1e-12)
+    assert math.isclose(answer.friction_torque_nm, 9.80665, rel_tol=1e-15)
+
+
+def test_compute_profile(api: Any) -> None:
+    models = module("models")
+    compute_profile = module("api.profiles.compute_profile")
+    cv = models.NamedCurveSpec(name="constant-velocity")
+    rise = models.SegmentSpec(type_=models.SegmentSpecType.RISE, angle_deg=180, lift_mm=20, curve=cv)
+    back = models.SegmentSpec(type_=models.SegmentSpecType.RETURN, angle_deg=180, lift_mm=20, curve=cv)
+    spec = models.ProfileSpec(follower=models.FollowerSpec(type_=models.FollowerSpecType.KNIFE_EDGE),
+                              base_radius_mm=15, segments=[rise, back])
+    answer = compute_profile.sync(client=api, body=models.ProfileRequest(profile=spec,
+                                                                         cam_angle_deg=[10, 30, 45, 120, 270]))
+    assert isinstance(answer, models.ProfileAnswer), answer
+    # Shinzato 1988, table 1: 21.56, 19.15, 17.66, 12.66 and −14.29 (numerical column at 270°)
+    assert [round(x, 2) for x in answer.pressure_angle_deg] == [21.56, 19.15, 17.66, 12.66, -14.29]
+    assert answer.checks.max_pressure_angle_deg > 21.56
+
+
+def test_plot_curve_answers_image_bytes(api: Any) -> None:
+    models = module("models")
+    plot_curve = module("api.curves.plot_curve")
+    png = plot_curve.sync_detailed("MS", client=api, format_=models.PlotCurveFormat.PNG, samples=101)
+    assert png.status_code == 200 and png.content[:8] == b"\x89PNG\r\n\x1a\n"
+    bad = plot_curve.sync_detailed("MS", client=api, samples=100_000)
+    assert bad.status_code == 422 and isinstance(bad.parsed, models.ErrorAnswer)
