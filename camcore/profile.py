@@ -715,7 +715,11 @@ def profile_checks(spec: CamSpec) -> ProfileChecks:
         t_hi, off_max = _exact_max(lambda t: _kinematics(spec, t).offset, grid, br)  # type: ignore[arg-type,return-value]
         t_lo, off_min_neg = _exact_max(lambda t: -_kinematics(spec, t).offset, grid, br)  # type: ignore[operator]
         face = {"face_min_mm": -off_min_neg, "face_max_mm": off_max, "face_width_mm": off_max + off_min_neg}
-        sx, sy = _rot(kin.contact[0], kin.contact[1], -spec.sigma * grid)
+        # the chord test on an even 0.1° grid: the check grid's break-point neighbours sit an
+        # ulp apart, and chords that short turn the cross product into rounding noise
+        even = np.linspace(0.0, 2 * math.pi, 3601)[:-1]
+        kin_even = _kinematics(spec, even)
+        sx, sy = _rot(kin_even.contact[0], kin_even.contact[1], -spec.sigma * even)
         convex = bool(rho_min > 0 and chord_convexity(sx, sy))
         undercut = False
     else:

@@ -548,3 +548,23 @@ def test_oscillating_schedule_runs():
     ang = res.cam_angle_deg[1:-1]
     keep = ~np.isin(ang, [0.0, 120.0, 180.0, 300.0, 360.0])
     np.testing.assert_allclose(-r3[keep], res.radius_of_curvature_mm[1:-1][keep], rtol=5e-4)
+
+
+def test_flat_faced_convexity_is_not_fooled_by_break_point_neighbours() -> None:
+    """A cycloid rise/dwell/return/dwell with ρ ≥ 34.7 mm everywhere is convex.
+
+    The exact-extremum grid holds each break point and its left neighbour an ulp apart;
+    the valve-cam chord test (cos φ > 0, sin φ > 0) on such chords was rounding noise and
+    called this cam not convex. The chord test now runs on an even grid. A cam whose
+    ρ = Rb + s + s'' dips below zero (Rb = 3 mm) must still be caught.
+    """
+    from camcore import named_curve
+    from camcore import profile as P
+
+    segs = [P.Segment("rise", 120, 10, named_curve("cycloid")), P.Segment("dwell", 60),
+            P.Segment("return", 120, 10, named_curve("cycloid")), P.Segment("dwell", 60)]
+    follower = P.Follower(type="flat-faced")
+    good = P.profile_checks(P.make_cam(follower, 40, segments=segs))
+    assert good.convex and good.min_radius_of_curvature_mm > 34
+    bad = P.profile_checks(P.make_cam(follower, 3, segments=segs))
+    assert not bad.convex and bad.min_radius_of_curvature_mm < 0
