@@ -100,6 +100,7 @@ class CurveService:
 
     def cached_table(self, spec: CurveSpec, samples: int, csv: bool) -> bytes:
         """A sampled table's encoded body (JSON or CSV), cached when it is small."""
+        self._check_spec_size(spec)
         self.check_limit("table samples", samples, self.settings.max_table_samples)
 
         def build() -> bytes:

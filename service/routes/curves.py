@@ -62,7 +62,10 @@ def characteristics(body: CharacteristicsRequest, service: Service) -> Response:
 @router.post("/table", operation_id="sampleCurve", response_model=CurveTable, responses={**ERRORS, 200: CSV})
 def sample_curve(body: TableRequest, request: Request, service: Service) -> Response:
     """Columns t, s, v, a, j, q at evenly spaced samples or at given times."""
-    return table_response(service.table_columns(body.curve, body.samples, body.t), wants_csv(request))
+    csv = wants_csv(request)
+    if body.samples is not None:  # a repeated spec and size is answered from the table cache
+        return encoded_response(service.cached_table(body.curve, body.samples, csv), csv)
+    return table_response(service.table_columns(body.curve, body.samples, body.t), csv)
 
 
 @router.get("/{name}/table", operation_id="sampleNamedCurve", response_model=CurveTable,
