@@ -39,9 +39,9 @@ _BLOCK = 16383
 #: every piece of every curve we build has at most a few extrema, far fewer than this.
 _BRACKET_SAMPLES = 257
 
-#: S levels of the inverse's start table: cells narrow enough that a linear start is
-#: within ~1e-9 of the root where V is not small, so one Newton step reaches machine precision
-_INVERSE_CELLS = 16384
+#: S levels of the inverse's start table (8 + 4 bytes a level, cached per curve): cells narrow
+#: enough that a linear start is within ~1e-8 of the root where V is not small
+_INVERSE_CELLS = 8192
 
 
 @dataclass(frozen=True)
@@ -455,32 +455,33 @@ class Curve:
         return t
 
     @cached_property
-    def _inverse_grid(self) -> tuple[FloatArray, FloatArray, NDArray[np.intp]]:
-        """S levels evenly over the stroke, the first T reaching each, and each cell's piece.
+    def _inverse_grid(self) -> tuple[FloatArray, NDArray[np.int32]]:
+        """The first T reaching each of the S levels S0 + (S7 − S0)·i/M, and each cell's piece.
 
-        Built once per curve (cached) with the robust bracketing solver.
-
+        Built once per curve (cached; 12 bytes a level) with the robust bracketing solver.
         A cell [T_i, T_i+1] lying inside one piece records that piece (−1 where a break
-        point falls inside), so the inverse needs no search per target.
+        point falls inside), so the inverse needs no search per target. The levels
+        themselves are recomputed by the same arithmetic, not stored.
         """
         direction = self._require_monotone()
-        frac = np.arange(_INVERSE_CELLS + 1) / _INVERSE_CELLS
-        levels = self.s_start + (self.s_end - self.s_start) * frac
-        levels[-1] = self.s_end
-        t_levels = self._inverse_bracketed(levels, direction)
+        t_levels = self._inverse_bracketed(self._inverse_levels(np.arange(_INVERSE_CELLS + 1)), direction)
         t_levels[0], t_levels[-1] = self.t_start, self.t_end
         first = np.searchsorted(self.piece_starts, t_levels[:-1], side="right") - 1
         last = np.searchsorted(self.piece_starts, t_levels[1:], side="left") - 1
         first = np.clip(first, 0, self.n_pieces - 1)
         last = np.clip(last, 0, self.n_pieces - 1)
-        cell_piece = np.where(first == last, first, -1).astype(np.intp)
-        return levels, t_levels, cell_piece
+        cell_piece = np.where(first == last, first, -1).astype(np.int32)
+        return t_levels, cell_piece
+
+    def _inverse_levels(self, i: NDArray[np.intp]) -> FloatArray:
+        levels = self.s_start + (self.s_end - self.s_start) * (i / _INVERSE_CELLS)
+        return np.where(i >= _INVERSE_CELLS, self.s_end, levels)
 
     def inverse(self, s: ArrayLike) -> FloatArray:
         """Exact inverse: for each displacement s, the first T in [T0, T7] with S(T) = s.
 
         Vectorised safeguarded Newton iteration on the closed form. The start and the
-        bracket come from a table of the T at which S reaches 16384 evenly spaced levels
+        bracket come from a table of the T at which S reaches 8192 evenly spaced levels
         (so each target finds its cell by arithmetic, not by search); iteration stops
         when the residual is at the rounding level of S, or when the Newton step, its
         predicted error |A/2V|·δ², or the bracket reach the spacing of floating-point
@@ -490,17 +491,17 @@ class Curve:
         direction = self._require_monotone()
         s_arr = np.asarray(s, dtype=np.float64)
         target = self._check_stroke(s_arr.reshape(-1))
-        levels, t_levels, cell_piece = self._inverse_grid
+        t_levels, cell_piece = self._inverse_grid
         span = self.s_end - self.s_start
         cell = np.clip(((target - self.s_start) / span * _INVERSE_CELLS).astype(np.intp), 0, _INVERSE_CELLS - 1)
         lo = t_levels[cell]
         hi = t_levels[cell + 1]
-        s_lo = levels[cell]
-        s_hi = levels[cell + 1]
+        s_lo = self._inverse_levels(cell)
+        s_hi = self._inverse_levels(cell + 1)
         with np.errstate(divide="ignore", invalid="ignore"):
             frac = np.where(s_hi != s_lo, (target - s_lo) / (s_hi - s_lo), 0.0)
         t = lo + (hi - lo) * np.clip(frac, 0.0, 1.0)
-        piece = cell_piece[cell]
+        piece = cell_piece[cell].astype(np.intp)
         goal = target * direction
         # the working set shrinks as targets converge; idx maps it back into t
         idx = np.arange(t.size)

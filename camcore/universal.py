@@ -33,7 +33,8 @@ from .sections import Section, SectionCurve
 
 PI = math.pi
 
-#: shortest non-empty section, as a fraction of T7 − T0: its jerk ~ A/length stays finite
+#: shortest non-empty section, as a fraction of T7 − T0 (shorter ones are merged away):
+#: the jerk ~ A/length of a section stays finite
 MIN_SECTION = 1e-9
 
 
@@ -60,15 +61,19 @@ def check_break_points(t: Sequence[float]) -> tuple[float, ...]:
             )
     if not pts[7] > pts[0]:
         raise InvalidBreakPointsError("the curve needs T7 > T0 (a stroke of positive duration).")
+    # a section shorter than MIN_SECTION of the stroke is rounding noise (e.g. T1 = T3 − 1 ulp in
+    # curve 4) whose jerk ~ A/length would overflow: it is merged into its start point
     shortest = MIN_SECTION * (pts[7] - pts[0])
+    snapped = list(pts)
     for i in range(7):
-        gap = pts[i + 1] - pts[i]
-        if 0 < gap < shortest:
-            raise InvalidBreakPointsError(
-                f"section T{i}..T{i + 1} is {gap!r} long: a section must be empty (equal break points) "
-                f"or at least {MIN_SECTION:g} of the stroke's duration; shorter ones only add rounding noise "
-                "and overflowing jerk."
-            )
+        if 0 < snapped[i + 1] - snapped[i] < shortest:
+            snapped[i + 1] = snapped[i]
+    if snapped[7] != pts[7]:  # keep T7 itself: move the last break points back instead
+        for i in range(7, 0, -1):
+            if snapped[i] == snapped[i - 1] and pts[i] != pts[i - 1]:
+                snapped[i - 1] = pts[7] if i == 7 else snapped[i]
+        snapped[7] = pts[7]
+    pts = tuple(snapped)
     return pts
 
 

@@ -39,7 +39,7 @@ class CurveService:
     def __init__(self, settings: Settings):
         self.settings = settings
         self.curves: LRUCache[Curve] = LRUCache(settings.curve_cache_size)
-        self.tables: LRUCache[bytes] = LRUCache(settings.table_cache_size)
+        self.tables: LRUCache[bytes] = LRUCache(settings.table_cache_size, settings.table_cache_max_bytes)
 
     # ------------------------------------------------------------------ limits
     def check_limit(self, what: str, requested: int, limit: int) -> None:

@@ -19,6 +19,7 @@ class Settings(BaseSettings):
     port: int = Field(8000, ge=1, le=65535)
     workers: int = Field(1, ge=1, le=64)
     log_level: str = "info"
+    keep_alive_s: int = Field(30, ge=1, le=3600, description="idle keep-alive before the server closes a connection")
 
     # limits: larger work is refused with 413 naming the limit
     max_body_bytes: int = Field(4 * 1024 * 1024, ge=1024)
@@ -31,6 +32,7 @@ class Settings(BaseSettings):
     curve_cache_size: int = Field(512, ge=0)
     table_cache_size: int = Field(256, ge=0)
     table_cache_max_rows: int = Field(10_001, ge=0)
+    table_cache_max_bytes: int = Field(32 * 1024 * 1024, ge=0)
 
     # access control (off by default for local use)
     api_key: str | None = None

@@ -174,7 +174,7 @@ FOUND = [
     pytest.param("POST", "/v1/curves/table",
                  {"json": {"curve": {"type": "universal", "t": [0, 1e-160, 1e-160, 0.5, 0.5, 0.875, 0.875, 1]},
                            "samples": 5}},
-                 id="vanishing-section"),  # fixed: camcore refuses sections under 1e-9 of the stroke
+                 id="vanishing-section"),  # fixed: camcore merges sections under 1e-9 of the stroke
 ]
 
 

@@ -1,0 +1,34 @@
+"""The bounded LRU cache: entry and byte bounds, hit/miss counts, results unchanged."""
+
+from __future__ import annotations
+
+from service.cache import LRUCache
+
+
+def test_entry_bound_evicts_least_recently_used() -> None:
+    cache: LRUCache[int] = LRUCache(2)
+    assert cache.get_or_create("a", lambda: 1) == 1
+    assert cache.get_or_create("b", lambda: 2) == 2
+    assert cache.get_or_create("a", lambda: -1) == 1  # hit: the cached value, not a rebuild
+    cache.get_or_create("c", lambda: 3)  # evicts b, the least recently used
+    assert cache.get_or_create("b", lambda: 20) == 20
+    assert cache.stats() == {"size": 2, "maxsize": 2, "hits": 1, "misses": 4}
+
+
+def test_byte_bound_keeps_the_total_under_the_limit() -> None:
+    cache: LRUCache[bytes] = LRUCache(100, max_bytes=10)
+    cache.get_or_create("a", lambda: b"12345")
+    cache.get_or_create("b", lambda: b"12345")
+    assert cache.stats()["bytes"] == 10
+    cache.get_or_create("c", lambda: b"123")  # 13 bytes > 10: the oldest entry goes
+    stats = cache.stats()
+    assert stats["bytes"] == 8 and stats["size"] == 2
+    cache.get_or_create("huge", lambda: b"x" * 11)  # larger than the bound: answered, not cached
+    assert cache.stats()["bytes"] == 8 and cache.get_or_create("huge", lambda: b"again") == b"again"
+
+
+def test_disabled_cache_still_answers() -> None:
+    cache: LRUCache[int] = LRUCache(0)
+    assert cache.get_or_create("a", lambda: 1) == 1
+    assert cache.get_or_create("a", lambda: 2) == 2
+    assert cache.stats()["size"] == 0
