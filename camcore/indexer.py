@@ -822,36 +822,40 @@ def _power_balance_peaks(curve: Curve, c1: float, c2: float) -> tuple[float, flo
     and the roots of f' = c1·(J·V + A²) + c2·A, bracketed by sign changes on a grid and
     refined by bisection until the bracket is two adjacent floats. Ties: earliest T.
     """
-    ts: list[FloatArray] = []
-    fs: list[FloatArray] = []
-    for piece in curve.pieces:
-        k = piece.index
-        grid = np.linspace(piece.start, piece.end, _BRACKET_SAMPLES)
+    starts = curve.piece_starts
+    ends = np.append(starts[1:], curve.t_end)
+    n = curve.n_pieces
+    # every piece at once; fewer grid points per piece when there are many small pieces
+    per_piece = int(np.clip(2**19 // max(n, 1), 17, _BRACKET_SAMPLES))
+    grid = starts[:, None] + (ends - starts)[:, None] * np.linspace(0.0, 1.0, per_piece)[None, :]
+    pieces = np.repeat(np.arange(n, dtype=np.intp), per_piece).reshape(n, per_piece)
 
-        def deriv(t: FloatArray, k: int = k) -> FloatArray:
-            _, v, a, j = curve._eval_pieces(t, np.full(t.shape, k, dtype=np.intp), 3)
-            return np.asarray(c1 * (j * v + a * a) + c2 * a, dtype=np.float64)
+    def deriv(t: FloatArray, k: NDArray[np.intp]) -> FloatArray:
+        _, v, a, j = curve._eval_pieces(t, k, 3)
+        return np.asarray(c1 * (j * v + a * a) + c2 * a, dtype=np.float64)
 
-        g = deriv(grid)
-        cands = [np.array([piece.start, piece.end]), grid[g == 0.0]]
-        change = np.nonzero(np.sign(g[:-1]) * np.sign(g[1:]) < 0)[0]
-        if change.size:
-            lo, hi = grid[change].copy(), grid[change + 1].copy()
-            g_lo = g[change].copy()
-            for _ in range(200):
-                mid = 0.5 * (lo + hi)
-                if np.all((mid <= lo) | (mid >= hi)):
-                    break
-                g_mid = deriv(mid)
-                same = np.sign(g_mid) == np.sign(g_lo)
-                lo = np.where(same, mid, lo)
-                g_lo = np.where(same, g_mid, g_lo)
-                hi = np.where(same, hi, mid)
-            cands += [lo, hi]
-        t_c = np.unique(np.concatenate(cands))
-        _, v, a = curve._eval_pieces(t_c, np.full(t_c.shape, k, dtype=np.intp), 2)
-        ts.append(t_c)
-        fs.append(np.asarray(c1 * v * a + c2 * v, dtype=np.float64))
+    g = deriv(grid.reshape(-1), pieces.reshape(-1)).reshape(n, per_piece)
+    zk, zi = np.nonzero(g == 0.0)
+    ck, ci = np.nonzero(np.sign(g[:, :-1]) * np.sign(g[:, 1:]) < 0)
+    lo, hi, k_c = grid[ck, ci].copy(), grid[ck, ci + 1].copy(), ck
+    g_lo = g[ck, ci].copy()
+    for _ in range(200):
+        if lo.size == 0:
+            break
+        mid = 0.5 * (lo + hi)
+        if np.all((mid <= lo) | (mid >= hi)):
+            break
+        g_mid = deriv(mid, k_c)
+        same = np.sign(g_mid) == np.sign(g_lo)
+        lo = np.where(same, mid, lo)
+        g_lo = np.where(same, g_mid, g_lo)
+        hi = np.where(same, hi, mid)
+    all_pieces = np.arange(n, dtype=np.intp)
+    t_c = np.concatenate([starts, ends, grid[zk, zi], lo, hi])
+    k_all = np.concatenate([all_pieces, all_pieces, zk, k_c, k_c])
+    _, v, a = curve._eval_pieces(t_c, k_all, 2)
+    ts = [t_c]
+    fs = [np.asarray(c1 * v * a + c2 * v, dtype=np.float64)]
     t_all = np.concatenate(ts)
     f_all = np.concatenate(fs)
     order = np.argsort(t_all, kind="stable")

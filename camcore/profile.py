@@ -859,35 +859,56 @@ def _lower_bound(spec: CamSpec) -> float:
     return lo
 
 
-def _solve_radius(spec: CamSpec, ok: Callable[[CamSpec], bool], what: str) -> float:
-    """Smallest Rb with ok(spec(Rb)) by bracketing and bisection (ok assumed monotone in Rb)."""
+def _solve_radius(spec: CamSpec, margin: Callable[[CamSpec], float], what: str) -> float:
+    """Smallest Rb with margin(spec(Rb)) ≥ 0 (margin assumed to grow with Rb).
+
+    Brackets the root by doubling, then the Illinois variant of regula falsi (superlinear on
+    the smooth margins of the pressure angle and curvature, and never leaving the bracket);
+    where the geometry cannot be assembled the margin is unknown and the step bisects.
+    Stops at 1e-10 relative.
+    """
     lo = _lower_bound(spec)
     span = max(1.0, spec.base_radius_mm)
 
-    def at(rb: float) -> CamSpec | None:
+    def at(rb: float) -> float:
         s = replace(spec, base_radius_mm=rb)
         try:
             validate(s)
         except GeometryError:
-            return None
-        return s
+            return -math.inf
+        return float(margin(s))
 
     hi = max(lo * 1.5, span)
     for _ in range(60):
-        s = at(hi)
-        if s is not None and ok(s):
+        f_hi = at(hi)
+        if f_hi >= 0:
             break
         hi = 2 * hi + 1.0
     else:
         raise GeometryError(f"No base radius up to {hi!r} mm meets the {what} limit.")
     a, b = lo, hi
-    while b - a > 1e-10 * max(1.0, b):
-        m = 0.5 * (a + b)
-        s = at(m)
-        if s is not None and ok(s):
-            b = m
+    f_a, f_b = at(a) if a > 0 else -math.inf, f_hi
+    side = 0
+    for _ in range(200):
+        if b - a <= 1e-10 * max(1.0, b):
+            break
+        if math.isfinite(f_a) and f_b > f_a:
+            m = b - f_b * (b - a) / (f_b - f_a)
+            if not a < m < b:
+                m = 0.5 * (a + b)
         else:
-            a = m
+            m = 0.5 * (a + b)
+        f_m = at(m)
+        if f_m >= 0:
+            b, f_b = m, f_m
+            if side == 1 and math.isfinite(f_a):
+                f_a *= 0.5  # Illinois: halve the stale end so the bracket shrinks from both sides
+            side = 1
+        else:
+            a, f_a = m, f_m
+            if side == -1:
+                f_b *= 0.5
+            side = -1
     return b
 
 
@@ -920,7 +941,7 @@ def size_base_circle(
     r_c: float | None = None
     if max_pressure_angle_deg is not None and f.type != "flat-faced":
         lim = max_pressure_angle_deg
-        r_p = _solve_radius(spec, lambda s: profile_checks(s).max_pressure_angle_deg <= lim, "pressure-angle")
+        r_p = _solve_radius(spec, lambda s: lim - profile_checks(s).max_pressure_angle_deg, "pressure-angle")
     if min_radius_of_curvature_mm is not None:
         req = min_radius_of_curvature_mm
         if _corners(spec):
@@ -939,9 +960,12 @@ def size_base_circle(
             if r_c <= 0:
                 r_c = None
         else:
-            r_c = _solve_radius(
-                spec, lambda s: (c := profile_checks(s)).min_radius_of_curvature_mm >= req and not c.undercut,
-                "radius-of-curvature")
+            def curvature_margin(s: CamSpec) -> float:
+                c = profile_checks(s)
+                # an undercut cam fails however large its nominal radius: a negative margin
+                return c.min_radius_of_curvature_mm - req if not c.undercut else -1.0 - abs(c.min_radius_of_curvature_mm)
+
+            r_c = _solve_radius(spec, curvature_margin, "radius-of-curvature")
     candidates = [(r, n) for r, n in ((r_p, "pressure_angle"), (r_c, "radius_of_curvature")) if r is not None]
     if candidates:
         rb, active = max(candidates)
