@@ -890,7 +890,7 @@ def _solve_radius(spec: CamSpec, margin: Callable[[CamSpec], float], what: str) 
     f_a, f_b = at(a) if a > 0 else -math.inf, f_hi
     side = 0
     for _ in range(200):
-        if b - a <= 1e-10 * max(1.0, b):
+        if b - a <= 1e-10 * max(1.0, b) or f_b == 0:  # f_b = 0: the limit is met exactly at b
             break
         if math.isfinite(f_a) and f_b > f_a:
             m = b - f_b * (b - a) / (f_b - f_a)
