@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import uvicorn
 
+from .protocol import NoDelayH11Protocol
 from .settings import Settings
 
 
@@ -16,6 +17,7 @@ def main() -> None:
         workers=settings.workers,
         log_level=settings.log_level,
         timeout_keep_alive=settings.keep_alive_s,
+        http=NoDelayH11Protocol,
     )
 
 
