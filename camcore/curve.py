@@ -15,6 +15,7 @@ References
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
@@ -265,12 +266,16 @@ class Curve:
         return self.evaluate(self.sample_times(samples))
 
     # ---------------------------------------------------------------- extrema
-    def _extremum_candidates(self) -> tuple[FloatArray, FloatArray]:
-        """Candidate times and values (rows S, V, A, J, A·V) of the extrema, all pieces.
+    def critical_points(
+        self, slopes: Callable[[list[FloatArray]], FloatArray]
+    ) -> tuple[FloatArray, NDArray[np.intp]]:
+        """Times, with their pieces, where functions of the motion may peak over [T0, T7].
 
-        Candidates are each piece's two ends (one-sided limits) and the interior roots
-        of each quantity's derivative, bracketed on a grid of every piece at once and
-        refined by bisection to machine precision (vectorised over pieces and brackets).
+        ``slopes`` maps [S, V, A, J, dJ/dT] at some times to the rows (one per function) of
+        the functions' derivatives with respect to T. The candidates are each piece's two
+        ends (one-sided limits) and every interior root of every row, bracketed on a grid
+        of all pieces at once and refined by bisection to machine precision. Evaluating a
+        function at these times with the returned pieces gives its exact extremes.
         """
         starts = self.piece_starts
         ends = np.append(starts[1:], self.t_end)
@@ -280,46 +285,45 @@ class Curve:
         per_piece = int(np.clip(2**18 // max(n, 1), 17, _BRACKET_SAMPLES))
         frac = np.linspace(0.0, 1.0, per_piece)
         grid = starts[:, None] + (ends - starts)[:, None] * frac[None, :]
-        kk = np.repeat(np.arange(n, dtype=np.intp), per_piece).reshape(n, per_piece)
-        derivs = self._derivative_rows(grid.reshape(-1), kk.reshape(-1)).reshape(5, n, per_piece)
+        kk = np.repeat(np.arange(n, dtype=np.intp), per_piece)
+
+        def rows(t: FloatArray, piece: NDArray[np.intp]) -> FloatArray:
+            return np.atleast_2d(np.asarray(slopes(self._eval_pieces(t, piece, 4)), dtype=np.float64))
+
+        derivs = rows(grid.reshape(-1), kk)
+        derivs = derivs.reshape(derivs.shape[0], n, per_piece)
         times = [starts, ends]
         pieces = [np.arange(n, dtype=np.intp), np.arange(n, dtype=np.intp)]
-        for q in range(5):
-            d = derivs[q]
+        for q, d in enumerate(derivs):
             sign = np.sign(d)
             k_idx, i_idx = np.nonzero(sign[:, :-1] * sign[:, 1:] < 0)
             if k_idx.size:
-                times.append(self._refine_roots(q, k_idx, grid[k_idx, i_idx], grid[k_idx, i_idx + 1]))
+                lo, hi = grid[k_idx, i_idx].copy(), grid[k_idx, i_idx + 1].copy()
+                f_lo = rows(lo, k_idx)[q]
+                for _ in range(80):
+                    mid = 0.5 * (lo + hi)
+                    if np.all((mid <= lo) | (mid >= hi)):
+                        break
+                    f_mid = rows(mid, k_idx)[q]
+                    same = np.sign(f_mid) == np.sign(f_lo)
+                    lo = np.where(same, mid, lo)
+                    f_lo = np.where(same, f_mid, f_lo)
+                    hi = np.where(same, hi, mid)
+                times.append(0.5 * (lo + hi))
                 pieces.append(k_idx)
             zk, zi = np.nonzero(d == 0.0)
             if zk.size and zk.size < d.size:
                 times.append(grid[zk, zi])
                 pieces.append(zk)
-        t_all = np.concatenate(times)
-        k_all = np.concatenate(pieces)
+        return np.concatenate(times), np.concatenate(pieces)
+
+    def _extremum_candidates(self) -> tuple[FloatArray, FloatArray]:
+        """Candidate times and values (rows S, V, A, J, A·V) of the characteristic extrema."""
+        t_all, k_all = self.critical_points(
+            lambda d: np.vstack([d[1], d[2], d[3], d[4], d[3] * d[1] + d[2] * d[2]])
+        )
         s_, v, acc, j = self._eval_pieces(t_all, k_all, 3)
         return t_all, np.vstack([s_, v, acc, j, acc * v])
-
-    def _derivative_rows(self, t: FloatArray, piece: NDArray[np.intp]) -> FloatArray:
-        """Rows: dS, dV, dA, dJ (= V, A, J, J') and d(A·V) = J·V + A² at t on the pieces."""
-        _s, v, a, j, dj = self._eval_pieces(t, piece, 4)
-        return np.vstack([v, a, j, dj, j * v + a * a])
-
-    def _refine_roots(self, quantity: int, piece: NDArray[np.intp], lo: FloatArray, hi: FloatArray) -> FloatArray:
-        """Bisect the derivative of ``quantity`` (0 S, 1 V, 2 A, 3 J, 4 A·V) to a root."""
-        lo = lo.copy()
-        hi = hi.copy()
-        f_lo = self._derivative_rows(lo, piece)[quantity]
-        for _ in range(80):
-            mid = 0.5 * (lo + hi)
-            if np.all((mid <= lo) | (mid >= hi)):
-                break
-            f_mid = self._derivative_rows(mid, piece)[quantity]
-            same = np.sign(f_mid) == np.sign(f_lo)
-            lo = np.where(same, mid, lo)
-            f_lo = np.where(same, f_mid, f_lo)
-            hi = np.where(same, hi, mid)
-        return 0.5 * (lo + hi)
 
     @cached_property
     def characteristics(self) -> Characteristics:

@@ -50,10 +50,7 @@ FloatArray = NDArray[np.float64]
 #: standard gravity [m/s²] (CGPM 1901), used for friction torque μ·m·g·R.
 G = 9.80665
 
-#: grid points per smooth piece used to bracket the roots of the input-torque derivative
-#: before refining them by bisection; a piece of a sine-family curve has at most a few
-#: extrema of V·A and V, far fewer than this.
-_BRACKET_SAMPLES = 513
+
 
 _SHAPES = ("disc", "ring", "block", "point")
 
@@ -818,46 +815,13 @@ class Sizing:
 def _power_balance_peaks(curve: Curve, c1: float, c2: float) -> tuple[float, float, float, float]:
     """Exact max and min over [T0, T7] of f(T) = c1·V·A + c2·V, with the T of each.
 
-    Per smooth piece, candidates are the two ends (one-sided, the piece's own formula)
-    and the roots of f' = c1·(J·V + A²) + c2·A, bracketed by sign changes on a grid and
-    refined by bisection until the bracket is two adjacent floats. Ties: earliest T.
+    Candidates are each piece's ends (one-sided) and the roots of
+    f' = c1·(J·V + A²) + c2·A, from :meth:`Curve.critical_points`. Ties: earliest T.
     """
-    starts = curve.piece_starts
-    ends = np.append(starts[1:], curve.t_end)
-    n = curve.n_pieces
-    # every piece at once; fewer grid points per piece when there are many small pieces
-    per_piece = int(np.clip(2**19 // max(n, 1), 17, _BRACKET_SAMPLES))
-    grid = starts[:, None] + (ends - starts)[:, None] * np.linspace(0.0, 1.0, per_piece)[None, :]
-    pieces = np.repeat(np.arange(n, dtype=np.intp), per_piece).reshape(n, per_piece)
-
-    def deriv(t: FloatArray, k: NDArray[np.intp]) -> FloatArray:
-        _, v, a, j = curve._eval_pieces(t, k, 3)
-        return np.asarray(c1 * (j * v + a * a) + c2 * a, dtype=np.float64)
-
-    g = deriv(grid.reshape(-1), pieces.reshape(-1)).reshape(n, per_piece)
-    zk, zi = np.nonzero(g == 0.0)
-    ck, ci = np.nonzero(np.sign(g[:, :-1]) * np.sign(g[:, 1:]) < 0)
-    lo, hi, k_c = grid[ck, ci].copy(), grid[ck, ci + 1].copy(), ck
-    g_lo = g[ck, ci].copy()
-    for _ in range(200):
-        if lo.size == 0:
-            break
-        mid = 0.5 * (lo + hi)
-        if np.all((mid <= lo) | (mid >= hi)):
-            break
-        g_mid = deriv(mid, k_c)
-        same = np.sign(g_mid) == np.sign(g_lo)
-        lo = np.where(same, mid, lo)
-        g_lo = np.where(same, g_mid, g_lo)
-        hi = np.where(same, hi, mid)
-    all_pieces = np.arange(n, dtype=np.intp)
-    t_c = np.concatenate([starts, ends, grid[zk, zi], lo, hi])
-    k_all = np.concatenate([all_pieces, all_pieces, zk, k_c, k_c])
-    _, v, a = curve._eval_pieces(t_c, k_all, 2)
-    ts = [t_c]
-    fs = [np.asarray(c1 * v * a + c2 * v, dtype=np.float64)]
-    t_all = np.concatenate(ts)
-    f_all = np.concatenate(fs)
+    # f' = c1·(J·V + A²) + c2·A: its roots and the piece ends are where f can peak
+    t_all, k_all = curve.critical_points(lambda d: c1 * (d[3] * d[1] + d[2] * d[2]) + c2 * d[2])
+    _, v, a = curve._eval_pieces(t_all, k_all, 2)
+    f_all = np.asarray(c1 * v * a + c2 * v, dtype=np.float64)
     order = np.argsort(t_all, kind="stable")
     t_all, f_all = t_all[order], f_all[order]
     i_max, i_min = int(np.argmax(f_all)), int(np.argmin(f_all))

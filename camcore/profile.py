@@ -224,9 +224,6 @@ class LiftSchedule:
                 out[o][sel] = gain * rate**o * vals[o]
         return [o.reshape(th.shape) for o in out]
 
-    def segment_bounds_rad(self) -> list[tuple[float, float]]:
-        return [(p.start, p.start + p.span) for p in self._pieces]
-
 
 class CurveLift:
     """One user lift curve over the drive angle (a Bezier or points curve).

@@ -26,8 +26,6 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-import numpy as np
-
 from .errors import InvalidBreakPointsError, InvalidParameterError, StrokeClosureError
 from .sections import Section, SectionCurve
 
@@ -394,6 +392,3 @@ def _check_t1_36(t1: float) -> float:
         raise InvalidParameterError(f"trapecloid II needs 0 < T1 ≤ 0.27 or so (T1 ≤ T2, T3 ≤ 1 − T1), got T1 = {t1!r}.")
     return t1
 
-
-def break_point_array(curve: UniversalCurve) -> np.ndarray:
-    return np.asarray(curve.t)
