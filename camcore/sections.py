@@ -26,7 +26,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from .curve import Curve, FloatArray
+from .curve import WORK_ROWS, Curve, FloatArray
 
 
 class _Coef(NamedTuple):
@@ -39,6 +39,7 @@ class _Coef(NamedTuple):
     beta: float
     gamma: float
     omega: float
+    half_omega: float
     b_w: float
     g_w: float
     b_w2: float
@@ -49,14 +50,34 @@ class _Coef(NamedTuple):
     g_ww: float
 
 
+def sin_cos_from_half_angle(half_angle: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """sin θ, cos θ and 1 − cos θ from θ/2, through u = tan(θ/2).
+
+    sin θ = 2u/(1 + u²), cos θ = (1 − u²)/(1 + u²), 1 − cos θ = 2u²/(1 + u²). numpy's
+    float64 tan is vectorised (SIMD) where sin and cos are not: one tan and a few
+    array passes cost a quarter of sin plus cos. The results are within a few ulp of
+    sin and cos (measured against mpmath in tests/test_sections.py), and 1 − cos θ
+    keeps its relative accuracy at small θ, where the difference 1 − cos loses it.
+    Near θ = π, u ≈ 1e16 and the formulas still give sin θ ≈ 2/u, cos θ = −1.
+    """
+    u = np.tan(half_angle)
+    u2 = u * u
+    d = u2 + 1.0
+    half_sin = u / d
+    half_omc = u2 / d
+    # doubling is exact, so a coefficient c times sin θ equals 2c times half_sin bit for bit:
+    # SectionCurve._eval_piece uses that to skip the doubling pass
+    return half_sin + half_sin, (1.0 - u2) / d, half_omc + half_omc
+
+
 def _lincomb(out: FloatArray, const: float, terms: list[tuple[float, FloatArray | None, bool]],
-             scratch: list[FloatArray]) -> None:
+             scratch: FloatArray) -> None:
     """out[...] = const + c1·x1 + c2·x2 + …, summed left to right as the full formula reads.
 
     A term with a zero coefficient adds exactly ±0 and is left out (no array pass). Each
     term is (c, x, x_may_be_zero); the x here are ≥ +0 or never zero, so c·x is −0 only
     when c < 0 and x has a zero, and only then is a zero ``const`` still added (turning
-    −0 into +0, as the full formula does). ``scratch`` holds one reusable temporary.
+    −0 into +0, as the full formula does). ``scratch`` is a temporary of out's shape.
     """
     started = False
     for coef, x, may_be_zero in terms:
@@ -68,10 +89,8 @@ def _lincomb(out: FloatArray, const: float, terms: list[tuple[float, FloatArray 
                 np.add(out, const, out=out)
             started = True
         else:
-            if not scratch:
-                scratch.append(np.empty_like(out))
-            np.multiply(x, coef, out=scratch[0])
-            np.add(out, scratch[0], out=out)
+            np.multiply(x, coef, out=scratch)
+            np.add(out, scratch, out=out)
     if not started:
         out[...] = const
 
@@ -142,6 +161,7 @@ class SectionCurve(Curve):
             "beta": beta,
             "gamma": gamma,
             "omega": omega,
+            "half_omega": 0.5 * omega,
             "b_w": beta * inv_w,
             "g_w": gamma * inv_w,
             "b_w2": beta * inv_w**2,
@@ -165,10 +185,7 @@ class SectionCurve(Curve):
         c = self._coef
         tau = t - c["start"][piece]
         alpha = c["alpha"][piece]
-        wt = c["omega"][piece] * tau
-        sn = np.sin(wt)
-        cs = np.cos(wt)
-        one_minus_cs = 1.0 - cs
+        sn, cs, one_minus_cs = sin_cos_from_half_angle(tau * c["half_omega"][piece])
         b_w, g_w = c["b_w"][piece], c["g_w"][piece]
         v0 = c["v"][piece]
         s = c["s"][piece] + tau * (v0 + 0.5 * alpha * tau + b_w) - c["b_w2"][piece] * sn + c["g_w2"][piece] * one_minus_cs
@@ -183,26 +200,44 @@ class SectionCurve(Curve):
             out.append(-c["b_ww"][piece] * sn - c["g_ww"][piece] * cs)
         return out
 
-    def _eval_piece(self, t: FloatArray, k: int, order: int, out: list[FloatArray]) -> None:
+    def _eval_piece(self, t: FloatArray, k: int, order: int, out: list[FloatArray],
+                    work: FloatArray | None = None) -> None:
         """[S, V, A, J, dJ/dT][: order + 1] of section k at sorted t (all in it) into ``out``.
 
-        The formulas of :meth:`_eval_pieces` with this section's scalar coefficients:
-        no gathers, and no work for terms whose coefficient is zero (a quarter-sine
-        section has only one of β, γ; most have α = 0).
+        The formulas of :meth:`_eval_pieces` with this section's scalar coefficients, the
+        same operations in the same order (so the same numbers), but no gathers, no work
+        for terms whose coefficient is zero (a quarter-sine section has only one of β, γ;
+        most have α = 0), and every temporary in ``work`` (``WORK_ROWS`` rows at least
+        ``len(t)`` long, reused block after block: no allocation per call).
         """
         c = self._rows[k]
-        scratch: list[FloatArray] = []
-        tau = np.subtract(t, c.start)
-        if tau.size and tau[0] == 0.0:
+        m = t.shape[0]
+        if work is None or work.shape[1] < m:
+            work = np.empty((WORK_ROWS, m))
+        tau, u, u2, d, sn, cs, omc, scratch = (row[:m] for row in work)
+        np.subtract(t, c.start, out=tau)
+        if m and tau[0] == 0.0:
             # t = −0.0 at a section starting at +0.0 gives τ = −0.0; the formulas want +0
             tau[: np.searchsorted(tau, 0.0, side="right")] = 0.0
-        sn = cs = omc = None
-        if c.omega > 0.0:
-            wt = np.multiply(tau, c.omega)
-            sn = np.sin(wt)
-            cs = np.cos(wt, out=wt)
-            if c.g_w2 != 0.0 or (order >= 1 and c.b_w != 0.0):
-                omc = np.subtract(1.0, cs)
+        need_sin = c.b_w2 != 0.0 or (order >= 1 and c.g_w != 0.0) or (order >= 2 and c.beta != 0.0) \
+            or (order >= 3 and c.g_wj != 0.0) or (order >= 4 and c.b_ww != 0.0)
+        need_cos = (order >= 2 and c.gamma != 0.0) or (order >= 3 and c.b_wj != 0.0) \
+            or (order >= 4 and c.g_ww != 0.0)
+        need_omc = c.g_w2 != 0.0 or (order >= 1 and c.b_w != 0.0)
+        if c.omega > 0.0 and (need_sin or need_cos or need_omc):
+            # sin_cos_from_half_angle into the workspace; sn and omc hold half of sin ωτ and
+            # of 1 − cos ωτ, and their coefficients below are doubled (exactly the same products)
+            np.multiply(tau, c.half_omega, out=u)
+            np.tan(u, out=u)
+            np.multiply(u, u, out=u2)
+            np.add(u2, 1.0, out=d)
+            if need_sin:
+                np.divide(u, d, out=sn)
+            if need_cos:
+                np.subtract(1.0, u2, out=cs)
+                np.divide(cs, d, out=cs)
+            if need_omc:
+                np.divide(u2, d, out=omc)
         # S = s + τ·(v0 + α/2·τ + β/ω) − β/ω²·sin ωτ + γ/ω²·(1 − cos ωτ)
         if c.alpha != 0.0:
             s_out = out[0]
@@ -211,24 +246,18 @@ class SectionCurve(Curve):
             s_out += c.b_w
             s_out *= tau
             s_out += c.s
-            _lincomb_tail(s_out, [(-c.b_w2, sn), (c.g_w2, omc)], scratch)
+            for coef, x in ((-2.0 * c.b_w2, sn), (2.0 * c.g_w2, omc)):
+                if coef != 0.0:
+                    np.multiply(x, coef, out=scratch)
+                    s_out += scratch
         else:
-            _lincomb(out[0], c.s, [(c.v + c.b_w, tau, True), (-c.b_w2, sn, True), (c.g_w2, omc, True)], scratch)
+            _lincomb(out[0], c.s, [(c.v + c.b_w, tau, True), (-2.0 * c.b_w2, sn, True), (2.0 * c.g_w2, omc, True)],
+                     scratch)
         if order >= 1:  # V = v0 + α·τ + β/ω·(1 − cos ωτ) + γ/ω·sin ωτ
-            _lincomb(out[1], c.v, [(c.alpha, tau, True), (c.b_w, omc, True), (c.g_w, sn, True)], scratch)
+            _lincomb(out[1], c.v, [(c.alpha, tau, True), (2.0 * c.b_w, omc, True), (2.0 * c.g_w, sn, True)], scratch)
         if order >= 2:  # A = α + β·sin ωτ + γ·cos ωτ
-            _lincomb(out[2], c.alpha, [(c.beta, sn, True), (c.gamma, cs, False)], scratch)
+            _lincomb(out[2], c.alpha, [(2.0 * c.beta, sn, True), (c.gamma, cs, True)], scratch)
         if order >= 3:  # J = βω·cos ωτ − γω·sin ωτ
-            _lincomb(out[3], 0.0, [(c.b_wj, cs, False), (-c.g_wj, sn, True)], scratch)
+            _lincomb(out[3], 0.0, [(c.b_wj, cs, True), (-2.0 * c.g_wj, sn, True)], scratch)
         if order >= 4:  # dJ/dT = −βω²·sin ωτ − γω²·cos ωτ
-            _lincomb(out[4], -0.0, [(-c.b_ww, sn, True), (-c.g_ww, cs, False)], scratch)
-
-
-def _lincomb_tail(out: FloatArray, terms: list[tuple[float, FloatArray | None]], scratch: list[FloatArray]) -> None:
-    """out += c1·x1 + c2·x2 … term by term, leaving out zero coefficients."""
-    for coef, x in terms:
-        if coef != 0.0:
-            if not scratch:
-                scratch.append(np.empty_like(out))
-            np.multiply(x, coef, out=scratch[0])
-            np.add(out, scratch[0], out=out)
+            _lincomb(out[4], -0.0, [(-2.0 * c.b_ww, sn, True), (-c.g_ww, cs, True)], scratch)
