@@ -18,12 +18,15 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .errors import NonMonotoneError, StrokeRangeError
+
+if TYPE_CHECKING:
+    from .inverse import InverseGrid
 
 FloatArray = NDArray[np.float64]
 
@@ -46,10 +49,6 @@ WORK_ROWS = 8
 #: samples per piece used to bracket the roots of a derivative before refining them;
 #: every piece of every curve we build has at most a few extrema, far fewer than this.
 _BRACKET_SAMPLES = 257
-
-#: S levels of the inverse's start table (8 + 4 bytes a level, cached per curve): cells narrow
-#: enough that a linear start is within ~1e-8 of the root where V is not small
-_INVERSE_CELLS = 8192
 
 
 @dataclass(frozen=True)
@@ -249,6 +248,28 @@ class Curve:
         self._fill_outside(flat, out, idx < 0, idx >= self.n_pieces)
         return out
 
+    def _eval_grouped(self, t: FloatArray, piece: NDArray[np.intp], order: int,
+                      work: FloatArray | None = None) -> list[FloatArray]:
+        """[S, V, …][: order + 1] at t in any order, each t on its (valid) piece.
+
+        Piece by piece with the piece's scalar coefficients (:meth:`_eval_piece`) when
+        that pays; the same numbers as :meth:`_eval_pieces`, which it falls back to for
+        few points or many pieces.
+        """
+        if self.n_pieces > _SLICED_PIECES or t.size < _SLICED_MIN_POINTS_PER_PIECE * self.n_pieces:
+            return self._eval_pieces(t, piece, order)
+        out = np.empty((order + 1, t.size))
+        counts = np.bincount(piece, minlength=self.n_pieces)
+        for k in np.flatnonzero(counts).tolist():
+            if counts[k] == t.size:
+                self._eval_piece(t, k, order, list(out), work)
+                break
+            sel = np.flatnonzero(piece == k)
+            part = np.empty((order + 1, sel.size))
+            self._eval_piece(t[sel], k, order, list(part), work)
+            out[:, sel] = part
+        return list(out)
+
     def _fill_outside(self, flat: FloatArray, out: list[FloatArray], before: Any, after: Any) -> None:
         """Sections 0 and VIII: S0, V0 before T0; S7 + V7·(T − T7), V7 after T7; A = J = 0."""
         (s0, v0), (s7, v7) = self._ends
@@ -403,19 +424,31 @@ class Curve:
 
     def _check_stroke(self, s: FloatArray) -> FloatArray:
         """Validate targets against the stroke; return them clamped onto [S0, S7]."""
+        self._validate_stroke(s)
+        return self._clamp_to_stroke(s)
+
+    def _validate_stroke(self, s: FloatArray) -> None:
+        """Raise StrokeRangeError, naming the first offender, if any s is off the stroke."""
         lo, hi = sorted((self.s_start, self.s_end))
         tol = self._stroke_tolerance()
-        bad = ~np.isfinite(s) | (s < lo - tol) | (s > hi + tol)
-        if bad.any():
+        if s.size and not (lo - tol <= s.min() and s.max() <= hi + tol):  # NaN fails both
+            bad = ~np.isfinite(s) | (s < lo - tol) | (s > hi + tol)
             i = int(np.nonzero(bad)[0][0])
             raise StrokeRangeError(
                 f"s[{i}] = {float(s.reshape(-1)[i])!r} is outside the stroke of this curve, "
                 f"which runs from S = {self.s_start!r} to S = {self.s_end!r}."
             )
+
+    def _clamp_to_stroke(self, s: FloatArray) -> FloatArray:
+        """Validated targets onto [S0, S7]; a target within rounding of an end is that end."""
+        lo, hi = sorted((self.s_start, self.s_end))
+        tol = self._stroke_tolerance()
         clamped = np.clip(s, lo, hi)
-        # a target at an end (within rounding) is exactly that end: T0 or T7
-        clamped = np.where(np.abs(s - self.s_start) <= tol, self.s_start, clamped)
-        return np.where(np.abs(s - self.s_end) <= tol, self.s_end, clamped)
+        for end in (self.s_start, self.s_end):
+            near = np.abs(s - end) <= tol
+            if near.any():
+                clamped[near] = end
+        return clamped
 
     @cached_property
     def _inverse_nodes(self) -> tuple[FloatArray, FloatArray]:
@@ -471,89 +504,29 @@ class Curve:
         return t
 
     @cached_property
-    def _inverse_grid(self) -> tuple[FloatArray, NDArray[np.int32]]:
-        """The first T reaching each of the S levels S0 + (S7 − S0)·i/M, and each cell's piece.
+    def _inverse_grid(self) -> InverseGrid:
+        """The inverse's start table (built once per curve with the robust solver; cached)."""
+        from .inverse import build_grid
 
-        Built once per curve (cached; 12 bytes a level) with the robust bracketing solver.
-        A cell [T_i, T_i+1] lying inside one piece records that piece (−1 where a break
-        point falls inside), so the inverse needs no search per target. The levels
-        themselves are recomputed by the same arithmetic, not stored.
-        """
-        direction = self._require_monotone()
-        t_levels = self._inverse_bracketed(self._inverse_levels(np.arange(_INVERSE_CELLS + 1)), direction)
-        t_levels[0], t_levels[-1] = self.t_start, self.t_end
-        first = np.searchsorted(self.piece_starts, t_levels[:-1], side="right") - 1
-        last = np.searchsorted(self.piece_starts, t_levels[1:], side="left") - 1
-        first = np.clip(first, 0, self.n_pieces - 1)
-        last = np.clip(last, 0, self.n_pieces - 1)
-        cell_piece = np.where(first == last, first, -1).astype(np.int32)
-        return t_levels, cell_piece
-
-    def _inverse_levels(self, i: NDArray[np.intp]) -> FloatArray:
-        levels = self.s_start + (self.s_end - self.s_start) * (i / _INVERSE_CELLS)
-        return np.where(i >= _INVERSE_CELLS, self.s_end, levels)
+        return build_grid(self, self._require_monotone())
 
     def inverse(self, s: ArrayLike) -> FloatArray:
         """Exact inverse: for each displacement s, the first T in [T0, T7] with S(T) = s.
 
-        Vectorised safeguarded Newton iteration on the closed form. The start and the
-        bracket come from a table of the T at which S reaches 8192 evenly spaced levels
-        (so each target finds its cell by arithmetic, not by search); iteration stops
+        Vectorised safeguarded Newton iteration on the closed form, started from a
+        table of T at 8192 evenly spaced S levels (see :mod:`camcore.inverse`); it stops
         when the residual is at the rounding level of S, or when the Newton step, its
         predicted error |A/2V|·δ², or the bracket reach the spacing of floating-point
         numbers. Raises :class:`NonMonotoneError` for a curve that is not monotone and
         :class:`StrokeRangeError` for s outside the stroke.
         """
-        direction = self._require_monotone()
+        from .inverse import solve
+
+        self._require_monotone()
         s_arr = np.asarray(s, dtype=np.float64)
-        target = self._check_stroke(s_arr.reshape(-1))
-        t_levels, cell_piece = self._inverse_grid
-        span = self.s_end - self.s_start
-        cell = np.clip(((target - self.s_start) / span * _INVERSE_CELLS).astype(np.intp), 0, _INVERSE_CELLS - 1)
-        lo = t_levels[cell]
-        hi = t_levels[cell + 1]
-        s_lo = self._inverse_levels(cell)
-        s_hi = self._inverse_levels(cell + 1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            frac = np.where(s_hi != s_lo, (target - s_lo) / (s_hi - s_lo), 0.0)
-        t = lo + (hi - lo) * np.clip(frac, 0.0, 1.0)
-        piece = cell_piece[cell].astype(np.intp)
-        goal = target * direction
-        # the working set shrinks as targets converge; idx maps it back into t
-        idx = np.arange(t.size)
-        tw, low, high, gw, pw = t, lo.copy(), hi.copy(), goal, piece
-        mixed = pw < 0
-        for _ in range(100):
-            if idx.size == 0:
-                break
-            pe = pw.copy()
-            if mixed.any():
-                pe[mixed] = np.clip(self.piece_index(tw[mixed]), 0, self.n_pieces - 1)
-            s_now, v_now, a_now = self._eval_pieces(tw, pe, 2)
-            f = s_now * direction - gw
-            low = np.where(f < 0, tw, low)
-            high = np.where(f > 0, tw, high)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                newton = tw - f / (v_now * direction)
-            ok = (newton > low) & (newton < high)  # false for nan and inf too
-            t_new = np.where(ok, newton, 0.5 * (low + high))
-            t_new = np.where(f == 0, tw, t_new)
-            tiny = 4 * np.spacing(np.maximum(np.abs(tw), 1.0))
-            # a residual at the rounding level of S cannot be improved: dT = dS / V
-            at_rounding = np.abs(f) <= 2 * np.spacing(np.abs(s_now))
-            t_new = np.where(at_rounding, tw, t_new)
-            # Newton's error after a step δ is about |A / 2V|·δ²: below an ulp, the step is final
-            with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-                settled = ok & (np.abs(a_now / (2 * v_now)) * (t_new - tw) ** 2 <= 0.25 * tiny)
-            done = at_rounding | settled | (np.abs(t_new - tw) <= tiny) | (high - low <= tiny)
-            t[idx] = t_new
-            keep = ~done
-            if not keep.all():
-                idx, tw, low, high, gw, pw, mixed = (
-                    idx[keep], t_new[keep], low[keep], high[keep], gw[keep], pw[keep], mixed[keep])
-            else:
-                tw = t_new
-        return t.reshape(s_arr.shape)
+        flat = s_arr.reshape(-1)
+        self._validate_stroke(flat)
+        return solve(self, self._inverse_grid, flat).reshape(s_arr.shape)
 
     def inverse_table(self, s: ArrayLike, step: float, decimals: int | None = None) -> CurveValues:
         """The catalog's method: proportional interpolation between rows of a table.

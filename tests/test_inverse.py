@@ -110,6 +110,32 @@ def test_inverse_of_return_stroke(name: str) -> None:
     assert ret.inverse(1.0) == 0.0 and ret.inverse(0.0) == 1.0
 
 
+@pytest.mark.parametrize("name,curve", CASES, ids=IDS)
+def test_inverse_does_not_depend_on_the_order_of_the_targets(name: str, curve: camcore.Curve) -> None:
+    """Targets are solved in blocks, grouped by piece: any order gives the same T, bit for bit."""
+    lo, hi = sorted((curve.s_start, curve.s_end))
+    s = np.linspace(lo, hi, 30001)  # several blocks of camcore.inverse.BLOCK, both end cells
+    order = np.random.default_rng(11).permutation(s.size)
+    assert np.array_equal(curve.inverse(s)[order], curve.inverse(s[order]))
+
+
+@pytest.mark.parametrize("name", ["MS", "MCV50", "cycloid", "4-5-6-7"])
+def test_inverse_in_the_dwell_end_cells(name: str) -> None:
+    """Near T0 and T7 (V → 0, S − S_end ∝ τ^k) the inverse still reaches δS/|V|.
+
+    camcore.inverse iterates on (S − S_end)^(1/k) in the first and last of its 8192
+    cells; this holds it to the same conditioning bound as everywhere else.
+    """
+    curve = camcore.named_curve(name)
+    t = np.concatenate([np.linspace(2e-3, 0.03, 2001), np.linspace(0.97, 1 - 2e-3, 2001)])
+    vals = curve.evaluate(t)
+    t_back = curve.inverse(vals.s)
+    bound = s_tol(name) / np.abs(vals.v) + 4 * EPS
+    k = int(np.argmax(np.abs(t_back - t) - bound))
+    assert abs(t_back[k] - t[k]) <= bound[k], f"{name}: |T' − T| = {abs(t_back[k] - t[k]):.2e} at T = {t[k]!r}"
+    assert np.max(np.abs(curve.evaluate(t_back).s - vals.s)) <= s_tol(name)
+
+
 def test_inverse_keeps_shape() -> None:
     curve = camcore.named_curve("MS")
     grid = np.array([[0.1, 0.2, 0.3], [0.4, 0.5, 0.6]])
