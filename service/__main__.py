@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import uvicorn
 
-from .protocol import NoDelayH11Protocol
+from .protocol import NoDelayHttpToolsProtocol
 from .settings import Settings
 
 
@@ -17,7 +17,8 @@ def main() -> None:
         workers=settings.workers,
         log_level=settings.log_level,
         timeout_keep_alive=settings.keep_alive_s,
-        http=NoDelayH11Protocol,
+        http=NoDelayHttpToolsProtocol,
+        loop="uvloop",
     )
 
 

@@ -26,6 +26,19 @@ class LRUCache(Generic[V]):
         self._data: OrderedDict[Hashable, V] = OrderedDict()
         self._lock = threading.Lock()
 
+    def get(self, key: Hashable) -> V | None:
+        """The cached value (counted as a hit), or None without counting a miss.
+
+        For a caller that answers hits on the event loop and builds a miss elsewhere
+        with :meth:`get_or_create` (which then counts the miss).
+        """
+        with self._lock:
+            if key in self._data:
+                self._data.move_to_end(key)
+                self.hits += 1
+                return self._data[key]
+        return None
+
     def get_or_create(self, key: Hashable, create: Callable[[], V]) -> V:
         with self._lock:
             if key in self._data:

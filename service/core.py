@@ -110,6 +110,13 @@ class CurveService:
             return build()
         return self.tables.get_or_create((spec_key(spec), samples, csv), build)
 
+    def table_if_cached(self, spec: CurveSpec, samples: int, csv: bool) -> bytes | None:
+        """The encoded table if it is in the cache (no computation: cheap enough for the
+        event loop), else None: then :meth:`cached_table` builds it."""
+        if samples > self.settings.table_cache_max_rows:
+            return None
+        return self.tables.get((spec_key(spec), samples, csv))
+
     def inverse_columns(
         self, spec: CurveSpec, s: list[float], method: str, table_step: float, table_decimals: int | None
     ) -> dict[str, np.ndarray]:

@@ -9,16 +9,16 @@ from .indexers import IndexerService
 from .profiles import ProfileService
 
 
-def curve_service(request: Request) -> CurveService:
+async def curve_service(request: Request) -> CurveService:
     service: CurveService = request.app.state.curve_service
     return service
 
 
-def indexer_service(request: Request) -> IndexerService:
+async def indexer_service(request: Request) -> IndexerService:
     service: IndexerService = request.app.state.indexer_service
     return service
 
 
-def profile_service(request: Request) -> ProfileService:
+async def profile_service(request: Request) -> ProfileService:
     service: ProfileService = request.app.state.profile_service
     return service

@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 from fastapi import APIRouter, Depends, Path, Query, Request
+from starlette.concurrency import run_in_threadpool
 from starlette.responses import Response
 
 import camcore
@@ -18,6 +19,7 @@ from ..schemas import (
     CatalogEntryAnswer,
     CharacteristicsAnswer,
     CharacteristicsRequest,
+    CurveSpec,
     CurveTable,
     ErrorAnswer,
     InverseRequest,
@@ -60,17 +62,26 @@ def characteristics(body: CharacteristicsRequest, service: Service) -> Response:
 
 
 @router.post("/table", operation_id="sampleCurve", response_model=CurveTable, responses={**ERRORS, 200: CSV})
-def sample_curve(body: TableRequest, request: Request, service: Service) -> Response:
+async def sample_curve(body: TableRequest, request: Request, service: Service) -> Response:
     """Columns t, s, v, a, j, q at evenly spaced samples or at given times."""
     csv = wants_csv(request)
-    if body.samples is not None:  # a repeated spec and size is answered from the table cache
-        return encoded_response(service.cached_table(body.curve, body.samples, csv), csv)
-    return table_response(service.table_columns(body.curve, body.samples, body.t), csv)
+    if body.samples is not None:
+        return encoded_response(await _sampled_table(service, body.curve, body.samples, csv), csv)
+    columns = await run_in_threadpool(service.table_columns, body.curve, body.samples, body.t)
+    return await run_in_threadpool(table_response, columns, csv)
+
+
+async def _sampled_table(service: CurveService, spec: CurveSpec, samples: int, csv: bool) -> bytes:
+    """A cached table is answered on the event loop; computing one goes to a worker thread."""
+    payload = service.table_if_cached(spec, samples, csv)
+    if payload is None:
+        payload = await run_in_threadpool(service.cached_table, spec, samples, csv)
+    return payload
 
 
 @router.get("/{name}/table", operation_id="sampleNamedCurve", response_model=CurveTable,
             responses={**ERRORS, 200: CSV})
-def sample_named_curve(
+async def sample_named_curve(
     name: CurveName,
     service: Service,
     samples: Annotated[int, Query(ge=2)] = 101,
@@ -79,8 +90,7 @@ def sample_named_curve(
 ) -> Response:
     """The table of a catalog curve, for spreadsheets (``?format=csv``)."""
     csv = format == "csv"
-    payload = service.cached_table(NamedCurveSpec(name=name, direction=direction), samples, csv)
-    return encoded_response(payload, csv)
+    return encoded_response(await _sampled_table(service, NamedCurveSpec(name=name, direction=direction), samples, csv), csv)
 
 
 @router.post("/inverse", operation_id="invertCurve", response_model=InverseTable, responses={**ERRORS, 200: CSV})

@@ -18,6 +18,6 @@ router = APIRouter(tags=["service"])
 
 
 @router.get("/health", operation_id="getHealth", response_model=HealthAnswer)
-def health(service: Annotated[CurveService, Depends(curve_service)]) -> Response:
+async def health(service: Annotated[CurveService, Depends(curve_service)]) -> Response:
     """Liveness and version, with the caches' hit and miss counts."""
     return JSONBody({"status": "ok", "version": camcore.__version__, "caches": service.cache_stats()})
