@@ -44,7 +44,7 @@ _SLICED_MIN_POINTS_PER_PIECE = 512
 #: ``WORK_ROWS`` rows allocated per call, not in fresh arrays per block and operation
 #: (allocating costs as much as a multiplication pass: freshly mapped, zeroed pages).
 _BLOCK = 16384
-WORK_ROWS = 8
+WORK_ROWS = 5
 
 #: samples per piece used to bracket the roots of a derivative before refining them;
 #: every piece of every curve we build has at most a few extrema, far fewer than this.
@@ -178,9 +178,12 @@ class Curve:
 
         -1 means before T0, ``n_pieces`` after T7.
         """
-        idx = np.searchsorted(self.piece_starts, t, side="right") - 1
-        idx = np.where(t >= self.t_end, self.n_pieces, idx)
-        return np.where(t == self.t_end, self.n_pieces - 1, idx).astype(np.intp)
+        return np.searchsorted(self._piece_index_bounds, t, side="right") - 1
+
+    @cached_property
+    def _piece_index_bounds(self) -> FloatArray:
+        # piece starts, then the float just above T7: T7 itself falls in the last piece
+        return np.append(self.piece_starts, np.nextafter(self.t_end, np.inf))
 
     @cached_property
     def _ends(self) -> tuple[list[float], list[float]]:

@@ -30,69 +30,91 @@ from .curve import WORK_ROWS, Curve, FloatArray
 
 
 class _Coef(NamedTuple):
-    """One section's coefficients as Python floats (for the per-slice evaluation)."""
+    """One section's coefficients as Python floats (for the per-slice evaluation).
+
+    Each output is a constant plus multiples of τ, q = sin(ωτ)/2 and r = (1 − cos ωτ)/2
+    (:func:`half_angle_bases`): S = s + τ·(v + β/ω + α/2·τ) + s_q·q + s_r·r, and
+    X = x_c + x_t·τ + x_q·q + x_r·r for X = V, A, J, dJ/dT.
+    """
 
     start: float
+    half_omega: float
     s: float
     v: float
     alpha: float
-    beta: float
-    gamma: float
-    omega: float
-    half_omega: float
-    b_w: float
-    g_w: float
-    b_w2: float
-    g_w2: float
-    b_wj: float
-    g_wj: float
-    b_ww: float
-    g_ww: float
+    b_w: float   # β/ω
+    s_k: float   # v + β/ω: S's τ coefficient when α = 0
+    s_q: float
+    s_r: float
+    v_q: float
+    v_r: float
+    a_c: float
+    a_q: float
+    a_r: float
+    j_c: float
+    j_q: float
+    j_r: float
+    d_c: float
+    d_q: float
+    d_r: float
 
 
-def sin_cos_from_half_angle(half_angle: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """sin θ, cos θ and 1 − cos θ from θ/2, through u = tan(θ/2).
+def half_angle_bases(half_angle: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """q = sin(θ)/2 and r = (1 − cos θ)/2 from θ/2, through u = tan(θ/2).
 
-    sin θ = 2u/(1 + u²), cos θ = (1 − u²)/(1 + u²), 1 − cos θ = 2u²/(1 + u²). numpy's
-    float64 tan is vectorised (SIMD) where sin and cos are not: one tan and a few
-    array passes cost a quarter of sin plus cos. The results are within a few ulp of
-    sin and cos (measured against mpmath in tests/test_sections.py), and 1 − cos θ
-    keeps its relative accuracy at small θ, where the difference 1 − cos loses it.
-    Near θ = π, u ≈ 1e16 and the formulas still give sin θ ≈ 2/u, cos θ = −1.
+    q = u/(1 + u²), r = u²/(1 + u²); so sin θ = 2q, 1 − cos θ = 2r, cos θ = 1 − 2r.
+    numpy's float64 tan is vectorised (SIMD) where sin and cos are not: one tan and four
+    array passes cost a fraction of sin plus cos. sin and cos come out within a few ulp
+    (measured against mpmath in tests/test_sections.py), and r keeps its relative
+    accuracy at small θ, where 1 − cos θ computed as a difference loses it. Near θ = π,
+    u ≈ 1e16 and the formulas still give q ≈ 1/u, r = 1.
     """
     u = np.tan(half_angle)
     u2 = u * u
     d = u2 + 1.0
-    half_sin = u / d
-    half_omc = u2 / d
-    # doubling is exact, so a coefficient c times sin θ equals 2c times half_sin bit for bit:
-    # SectionCurve._eval_piece uses that to skip the doubling pass
-    return half_sin + half_sin, (1.0 - u2) / d, half_omc + half_omc
+    return u / d, u2 / d
 
 
-def _lincomb(out: FloatArray, const: float, terms: list[tuple[float, FloatArray | None, bool]],
-             scratch: FloatArray) -> None:
-    """out[...] = const + c1·x1 + c2·x2 + …, summed left to right as the full formula reads.
+class _Sum(NamedTuple):
+    """One output as const + Σ coef·basis, zero coefficients left out (basis 0 = τ, 1 = q, 2 = r).
 
-    A term with a zero coefficient adds exactly ±0 and is left out (no array pass). Each
-    term is (c, x, x_may_be_zero); the x here are ≥ +0 or never zero, so c·x is −0 only
-    when c < 0 and x has a zero, and only then is a zero ``const`` still added (turning
-    −0 into +0, as the full formula does). ``scratch`` is a temporary of out's shape.
+    The sum runs left to right as the full formula reads. A left-out term would add
+    exactly ±0; the bases are ≥ +0, so a first term with a negative coefficient can be −0,
+    and only then is a zero constant still added (turning −0 into +0, as the full
+    formula does).
     """
-    started = False
-    for coef, x, may_be_zero in terms:
-        if coef == 0.0:
-            continue
-        if not started:
-            np.multiply(x, coef, out=out)
-            if const != 0.0 or (coef < 0.0 and may_be_zero):
-                np.add(out, const, out=out)
-            started = True
-        else:
-            np.multiply(x, coef, out=scratch)
+
+    const: float
+    add_const: bool
+    terms: tuple[tuple[float, int], ...]
+
+    @classmethod
+    def of(cls, const: float, terms: list[tuple[float, int]]) -> _Sum:
+        kept = tuple((coef, basis) for coef, basis in terms if coef != 0.0)
+        return cls(const, const != 0.0 or (bool(kept) and kept[0][0] < 0.0), kept)
+
+    def bases(self) -> set[int]:
+        return {basis for _, basis in self.terms}
+
+    def run(self, out: FloatArray, bases: tuple[FloatArray, ...], scratch: FloatArray) -> None:
+        if not self.terms:
+            out[...] = self.const
+            return
+        coef, basis = self.terms[0]
+        np.multiply(bases[basis], coef, out=out)
+        if self.add_const:
+            np.add(out, self.const, out=out)
+        for coef, basis in self.terms[1:]:
+            np.multiply(bases[basis], coef, out=scratch)
             np.add(out, scratch, out=out)
-    if not started:
-        out[...] = const
+
+
+class _Plan(NamedTuple):
+    """What section k computes for a given order (built once, run block after block)."""
+
+    need_q: bool
+    need_r: bool
+    outputs: tuple[_Sum, ...]   # S (unless alpha_s), then V, A, J, dJ/dT as far as the order goes
 
 
 @dataclass(frozen=True)
@@ -126,6 +148,8 @@ class SectionCurve(Curve):
         kept = [sec for sec in sections if sec.length > 0]
         if not kept:
             raise ValueError("a section curve needs at least one section of positive length")
+        # ω = 0: sin ωτ = 0, cos ωτ = 1, so the acceleration is the constant α + γ
+        kept = [sec if sec.omega > 0 else Section(sec.start, sec.length, alpha=sec.alpha + sec.gamma) for sec in kept]
         self.sections = kept
         n = len(kept)
         self.piece_starts = np.array([sec.start for sec in kept], dtype=np.float64)
@@ -152,53 +176,70 @@ class SectionCurve(Curve):
             else:
                 s = s + v * tau + 0.5 * sec.alpha * tau**2
                 v = v + sec.alpha * tau
-        # coefficient table, one row per section (gathered by section index)
+        b_w, g_w = beta * inv_w, gamma * inv_w
+        b_w2, g_w2 = beta * inv_w**2, gamma * inv_w**2
+        b_wj, g_wj = beta * omega, gamma * omega
+        b_ww, g_ww = beta * omega**2, gamma * omega**2
+        # coefficient table, one row per section (gathered by section index); with
+        # sin = 2q, 1 − cos = 2r, cos = 1 − 2r (doubling is exact):
         self._coef = {
             "start": self.piece_starts,
+            "half_omega": 0.5 * omega,
             "s": s_start,
             "v": v_start,
             "alpha": alpha,
-            "beta": beta,
-            "gamma": gamma,
-            "omega": omega,
-            "half_omega": 0.5 * omega,
-            "b_w": beta * inv_w,
-            "g_w": gamma * inv_w,
-            "b_w2": beta * inv_w**2,
-            "g_w2": gamma * inv_w**2,
-            "b_wj": beta * omega,
-            "g_wj": gamma * omega,
-            "b_ww": beta * omega**2,
-            "g_ww": gamma * omega**2,
+            "b_w": b_w,
+            "s_q": -2.0 * b_w2,        # S: −β/ω²·sin ωτ + γ/ω²·(1 − cos ωτ)
+            "s_r": 2.0 * g_w2,
+            "v_q": 2.0 * g_w,          # V: v + α·τ + β/ω·(1 − cos ωτ) + γ/ω·sin ωτ
+            "v_r": 2.0 * b_w,
+            "a_c": alpha + gamma,      # A: α + β·sin ωτ + γ·cos ωτ
+            "a_q": 2.0 * beta,
+            "a_r": -2.0 * gamma,
+            "j_c": b_wj,               # J: βω·cos ωτ − γω·sin ωτ
+            "j_q": -2.0 * g_wj,
+            "j_r": -2.0 * b_wj,
+            "d_c": -g_ww,              # dJ/dT: −βω²·sin ωτ − γω²·cos ωτ
+            "d_q": -2.0 * b_ww,
+            "d_r": 2.0 * g_ww,
         }
-        # the same coefficients per section as Python floats; a constant-acceleration
-        # section (ω = 0) has sin ωτ = 0, cos ωτ = 1: its A is the constant α + γ
+        self._coef_matrix = np.array(list(self._coef.values()))
+        # the same coefficients per section as Python floats (+ 0.0: no −0)
+        self._plans: dict[tuple[int, int], _Plan] = {}
         self._rows: list[_Coef] = []
         for k in range(n):
-            row = {name: float(col[k]) + 0.0 for name, col in self._coef.items()}  # + 0.0: no −0
-            if row["omega"] == 0.0:
-                row["alpha"] = (row["alpha"] + row["beta"] * 0.0) + row["gamma"] + 0.0
-                row.update(beta=0.0, gamma=0.0)
+            row = {name: float(col[k]) + 0.0 for name, col in self._coef.items()}
+            row["s_k"] = row["v"] + row["b_w"]  # as the gathered v + α/2·τ + β/ω reads at α = 0
             self._rows.append(_Coef(**row))
 
     def _eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
-        c = self._coef
-        tau = t - c["start"][piece]
-        alpha = c["alpha"][piece]
-        sn, cs, one_minus_cs = sin_cos_from_half_angle(tau * c["half_omega"][piece])
-        b_w, g_w = c["b_w"][piece], c["g_w"][piece]
-        v0 = c["v"][piece]
-        s = c["s"][piece] + tau * (v0 + 0.5 * alpha * tau + b_w) - c["b_w2"][piece] * sn + c["g_w2"][piece] * one_minus_cs
-        out = [s]
+        # one gather for all coefficients: row i of the result is coefficient i per point
+        c = dict(zip(self._coef, np.take(self._coef_matrix, piece, axis=1)))
+        tau = t - c["start"]
+        q, r = half_angle_bases(tau * c["half_omega"])
+        out = [c["s"] + tau * (c["v"] + 0.5 * c["alpha"] * tau + c["b_w"]) + c["s_q"] * q + c["s_r"] * r]
         if order >= 1:
-            out.append(v0 + alpha * tau + b_w * one_minus_cs + g_w * sn)
-        if order >= 2:
-            out.append(alpha + c["beta"][piece] * sn + c["gamma"][piece] * cs)
-        if order >= 3:
-            out.append(c["b_wj"][piece] * cs - c["g_wj"][piece] * sn)
-        if order >= 4:
-            out.append(-c["b_ww"][piece] * sn - c["g_ww"][piece] * cs)
+            out.append(c["v"] + c["alpha"] * tau + c["v_q"] * q + c["v_r"] * r)
+        for name in "ajd"[: max(order - 1, 0)]:
+            out.append(c[name + "_c"] + c[name + "_q"] * q + c[name + "_r"] * r)
         return out
+
+    def _plan(self, k: int, order: int) -> _Plan:
+        plan = self._plans.get((k, order))
+        if plan is None:
+            c = self._rows[k]
+            tau, q, r = 0, 1, 2
+            sums = [
+                _Sum.of(c.s, [(c.s_k, tau), (c.s_q, q), (c.s_r, r)]),  # S when α = 0
+                _Sum.of(c.v, [(c.alpha, tau), (c.v_q, q), (c.v_r, r)]),
+                _Sum.of(c.a_c, [(c.a_q, q), (c.a_r, r)]),
+                _Sum.of(c.j_c, [(c.j_q, q), (c.j_r, r)]),
+                _Sum.of(c.d_c, [(c.d_q, q), (c.d_r, r)]),
+            ][: order + 1]
+            used = set().union(*(x.bases() for x in sums)) | ({q} if c.s_q else set()) | ({r} if c.s_r else set())
+            plan = _Plan(c.half_omega > 0.0 and q in used, c.half_omega > 0.0 and r in used, tuple(sums))
+            self._plans[(k, order)] = plan
+        return plan
 
     def _eval_piece(self, t: FloatArray, k: int, order: int, out: list[FloatArray],
                     work: FloatArray | None = None) -> None:
@@ -211,53 +252,39 @@ class SectionCurve(Curve):
         ``len(t)`` long, reused block after block: no allocation per call).
         """
         c = self._rows[k]
+        plan = self._plan(k, order)
         m = t.shape[0]
         if work is None or work.shape[1] < m:
             work = np.empty((WORK_ROWS, m))
-        tau, u, u2, d, sn, cs, omc, scratch = (row[:m] for row in work)
+        tau, q, r, d, scratch = (row[:m] for row in work)
         np.subtract(t, c.start, out=tau)
         if m and tau[0] == 0.0:
             # t = −0.0 at a section starting at +0.0 gives τ = −0.0; the formulas want +0
             tau[: np.searchsorted(tau, 0.0, side="right")] = 0.0
-        need_sin = c.b_w2 != 0.0 or (order >= 1 and c.g_w != 0.0) or (order >= 2 and c.beta != 0.0) \
-            or (order >= 3 and c.g_wj != 0.0) or (order >= 4 and c.b_ww != 0.0)
-        need_cos = (order >= 2 and c.gamma != 0.0) or (order >= 3 and c.b_wj != 0.0) \
-            or (order >= 4 and c.g_ww != 0.0)
-        need_omc = c.g_w2 != 0.0 or (order >= 1 and c.b_w != 0.0)
-        if c.omega > 0.0 and (need_sin or need_cos or need_omc):
-            # sin_cos_from_half_angle into the workspace; sn and omc hold half of sin ωτ and
-            # of 1 − cos ωτ, and their coefficients below are doubled (exactly the same products)
+        if plan.need_q or plan.need_r:
+            # half_angle_bases, written into the workspace
+            u = q if plan.need_q else r
             np.multiply(tau, c.half_omega, out=u)
             np.tan(u, out=u)
-            np.multiply(u, u, out=u2)
-            np.add(u2, 1.0, out=d)
-            if need_sin:
-                np.divide(u, d, out=sn)
-            if need_cos:
-                np.subtract(1.0, u2, out=cs)
-                np.divide(cs, d, out=cs)
-            if need_omc:
-                np.divide(u2, d, out=omc)
-        # S = s + τ·(v0 + α/2·τ + β/ω) − β/ω²·sin ωτ + γ/ω²·(1 − cos ωτ)
-        if c.alpha != 0.0:
+            np.multiply(u, u, out=scratch)  # u²
+            np.add(scratch, 1.0, out=d)
+            if plan.need_q:
+                np.divide(u, d, out=q)
+            if plan.need_r:
+                np.divide(scratch, d, out=r)
+        bases = (tau, q, r)
+        if c.alpha != 0.0:  # S = s + τ·(v + α/2·τ + β/ω) + s_q·q + s_r·r
             s_out = out[0]
             np.multiply(tau, 0.5 * c.alpha, out=s_out)
             s_out += c.v
             s_out += c.b_w
             s_out *= tau
             s_out += c.s
-            for coef, x in ((-2.0 * c.b_w2, sn), (2.0 * c.g_w2, omc)):
+            for coef, x in ((c.s_q, q), (c.s_r, r)):
                 if coef != 0.0:
                     np.multiply(x, coef, out=scratch)
                     s_out += scratch
         else:
-            _lincomb(out[0], c.s, [(c.v + c.b_w, tau, True), (-2.0 * c.b_w2, sn, True), (2.0 * c.g_w2, omc, True)],
-                     scratch)
-        if order >= 1:  # V = v0 + α·τ + β/ω·(1 − cos ωτ) + γ/ω·sin ωτ
-            _lincomb(out[1], c.v, [(c.alpha, tau, True), (2.0 * c.b_w, omc, True), (2.0 * c.g_w, sn, True)], scratch)
-        if order >= 2:  # A = α + β·sin ωτ + γ·cos ωτ
-            _lincomb(out[2], c.alpha, [(2.0 * c.beta, sn, True), (c.gamma, cs, True)], scratch)
-        if order >= 3:  # J = βω·cos ωτ − γω·sin ωτ
-            _lincomb(out[3], 0.0, [(c.b_wj, cs, True), (-2.0 * c.g_wj, sn, True)], scratch)
-        if order >= 4:  # dJ/dT = −βω²·sin ωτ − γω²·cos ωτ
-            _lincomb(out[4], -0.0, [(-2.0 * c.b_ww, sn, True), (-c.g_ww, cs, True)], scratch)
+            plan.outputs[0].run(out[0], bases, scratch)
+        for o, total in zip(out[1:], plan.outputs[1:]):
+            total.run(o, bases, scratch)
