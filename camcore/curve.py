@@ -335,16 +335,8 @@ class Curve:
             k_idx, i_idx = np.nonzero(sign[:, :-1] * sign[:, 1:] < 0)
             if k_idx.size:
                 lo, hi = grid[k_idx, i_idx].copy(), grid[k_idx, i_idx + 1].copy()
-                f_lo = rows(lo, k_idx)[q]
-                for _ in range(80):
-                    mid = 0.5 * (lo + hi)
-                    if np.all((mid <= lo) | (mid >= hi)):
-                        break
-                    f_mid = rows(mid, k_idx)[q]
-                    same = np.sign(f_mid) == np.sign(f_lo)
-                    lo = np.where(same, mid, lo)
-                    f_lo = np.where(same, f_mid, f_lo)
-                    hi = np.where(same, hi, mid)
+                f_lo, f_hi = d[k_idx, i_idx].copy(), d[k_idx, i_idx + 1].copy()
+                _refine_roots(lambda t, k: rows(t, k)[q], lo, hi, f_lo, f_hi, k_idx)
                 times.append(0.5 * (lo + hi))
                 pieces.append(k_idx)
             zk, zi = np.nonzero(d == 0.0)
@@ -574,6 +566,47 @@ class Curve:
         return CurveValues(
             t=lerp(t_r), s=s_arr, v=lerp(v_r), a=lerp(a_r), j=lerp(j_r), q=lerp(q_r), q_raw=lerp(qr_r)
         )
+
+
+def _refine_roots(f: Callable[[FloatArray, NDArray[np.intp]], FloatArray], lo: FloatArray, hi: FloatArray,
+                  f_lo: FloatArray, f_hi: FloatArray, piece: NDArray[np.intp]) -> None:
+    """Shrink brackets [lo, hi] (f changes sign inside) around the roots of f, in place.
+
+    Illinois regula falsi: the chord's zero, and the value kept at an end that stays put
+    twice is halved so both ends move in. Each trial point keeps 2 ulp from both ends, so
+    once one lies that close to the root the next lands on its far side and the bracket
+    closes. A bracket stops at a root (f = 0) or at 4 ulp
+    wide: about 10 evaluations from a 1/256-wide cell, where bisection needs 45.
+    """
+    active = np.arange(lo.size)
+    kept = np.zeros(lo.size, dtype=np.int8)  # +1: lo moved last time, −1: hi moved last time
+    for _ in range(200):
+        a, b = lo[active], hi[active]
+        tol = 2 * np.spacing(np.maximum(np.abs(a), np.abs(b)))
+        open_ = b - a > 2 * tol
+        if not open_.all():
+            active, a, b, tol = active[open_], a[open_], b[open_], tol[open_]
+        if active.size == 0:
+            return
+        fa, fb = f_lo[active], f_hi[active]
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            chord = a - fa * ((b - a) / (fb - fa))
+        # the chord's zero lies in [a, b] (fa, fb differ in sign) up to rounding; the clip
+        # also keeps it 2 ulp inside, so a zero found next to an end is checked from the far side
+        mid = np.clip(np.where(np.isfinite(chord), chord, 0.5 * (a + b)), a + tol, b - tol)
+        f_mid = f(mid, piece[active])
+        root = f_mid == 0
+        moves_lo = (np.sign(f_mid) == np.sign(fa)) & ~root
+        moves_hi = ~moves_lo & ~root
+        # Illinois: the end that stays put for a second time has its value halved
+        halve_hi = moves_lo & (kept[active] == 1)
+        halve_lo = moves_hi & (kept[active] == -1)
+        lo[active] = np.where(moves_lo | root, mid, a)
+        hi[active] = np.where(moves_hi | root, mid, b)
+        f_lo[active] = np.where(moves_lo, f_mid, np.where(halve_lo, 0.5 * fa, fa))
+        f_hi[active] = np.where(moves_hi, f_mid, np.where(halve_hi, 0.5 * fb, fb))
+        kept[active] = np.where(moves_lo, 1, np.where(moves_hi, -1, 0))
+        active = active[~root]
 
 
 @dataclass(frozen=True)
