@@ -316,17 +316,13 @@ class Curve:
         starts = self.piece_starts
         ends = np.append(starts[1:], self.t_end)
         n = self.n_pieces
-        # fewer grid points per piece when there are many small pieces (splines of many
-        # points: cubic pieces whose derivatives have at most a few roots)
-        per_piece = int(np.clip(2**18 // max(n, 1), 17, _BRACKET_SAMPLES))
-        frac = np.linspace(0.0, 1.0, per_piece)
-        grid = starts[:, None] + (ends - starts)[:, None] * frac[None, :]
-        kk = np.repeat(np.arange(n, dtype=np.intp), per_piece)
+        grid, grid_values = self._bracket_grid
+        per_piece = grid.shape[1]
 
         def rows(t: FloatArray, piece: NDArray[np.intp]) -> FloatArray:
             return np.atleast_2d(np.asarray(slopes(self._eval_pieces(t, piece, 4)), dtype=np.float64))
 
-        derivs = rows(grid.reshape(-1), kk)
+        derivs = np.atleast_2d(np.asarray(slopes(grid_values), dtype=np.float64))
         derivs = derivs.reshape(derivs.shape[0], n, per_piece)
         times = [starts, ends]
         pieces = [np.arange(n, dtype=np.intp), np.arange(n, dtype=np.intp)]
@@ -344,6 +340,24 @@ class Curve:
                 times.append(grid[zk, zi])
                 pieces.append(zk)
         return np.concatenate(times), np.concatenate(pieces)
+
+    @cached_property
+    def _bracket_grid(self) -> tuple[FloatArray, list[FloatArray]]:
+        """Times (one row per piece) and [S, V, A, J, dJ/dT] there, where roots are bracketed.
+
+        Cached: every critical_points call (characteristic values, each indexer sizing's
+        torque peaks) starts from the same grid.
+        """
+        starts = self.piece_starts
+        ends = np.append(starts[1:], self.t_end)
+        n = self.n_pieces
+        # fewer grid points per piece when there are many small pieces (splines of many
+        # points: cubic pieces whose derivatives have at most a few roots)
+        per_piece = int(np.clip(2**18 // max(n, 1), 17, _BRACKET_SAMPLES))
+        frac = np.linspace(0.0, 1.0, per_piece)
+        grid = starts[:, None] + (ends - starts)[:, None] * frac[None, :]
+        kk = np.repeat(np.arange(n, dtype=np.intp), per_piece)
+        return grid, self._eval_pieces(grid.reshape(-1), kk, 4)
 
     def _extremum_candidates(self) -> tuple[FloatArray, FloatArray]:
         """Candidate times and values (rows S, V, A, J, A·V) of the characteristic extrema."""
