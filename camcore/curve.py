@@ -262,15 +262,16 @@ class Curve:
         if self.n_pieces > _SLICED_PIECES or t.size < _SLICED_MIN_POINTS_PER_PIECE * self.n_pieces:
             return self._eval_pieces(t, piece, order)
         out = np.empty((order + 1, t.size))
-        counts = np.bincount(piece, minlength=self.n_pieces)
-        for k in np.flatnonzero(counts).tolist():
-            if counts[k] == t.size:
-                self._eval_piece(t, k, order, list(out), work)
-                break
+        first, last = int(piece.min()), int(piece.max())
+        if first == last:  # one piece (a block of sorted targets, mostly)
+            self._eval_piece(t, first, order, list(out), work)
+            return list(out)
+        for k in range(first, last + 1):
             sel = np.flatnonzero(piece == k)
-            part = np.empty((order + 1, sel.size))
-            self._eval_piece(t[sel], k, order, list(part), work)
-            out[:, sel] = part
+            if sel.size:
+                part = np.empty((order + 1, sel.size))
+                self._eval_piece(t[sel], k, order, list(part), work)
+                out[:, sel] = part
         return list(out)
 
     def _fill_outside(self, flat: FloatArray, out: list[FloatArray], before: Any, after: Any) -> None:
@@ -449,9 +450,14 @@ class Curve:
             )
 
     def _clamp_to_stroke(self, s: FloatArray) -> FloatArray:
-        """Validated targets onto [S0, S7]; a target within rounding of an end is that end."""
+        """Validated targets onto [S0, S7]; a target within rounding of an end is that end.
+
+        Returns s itself when no target is near an end (two reductions, no copy).
+        """
         lo, hi = sorted((self.s_start, self.s_end))
         tol = self._stroke_tolerance()
+        if s.size == 0 or (s.min() > lo + tol and s.max() < hi - tol):
+            return s
         clamped = np.clip(s, lo, hi)
         for end in (self.s_start, self.s_end):
             near = np.abs(s - end) <= tol
