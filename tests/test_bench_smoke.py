@@ -29,12 +29,9 @@ def test_bench_smoke_reports_every_figure() -> None:
     assert set(figures) == FIGURES
     for name, fig in figures.items():
         if "skipped" in fig:
-            # only the HTTP figures may be skipped (no wrk), and the sizing sweep while
-            # camcore.indexer has no sizing function; each says why
-            assert name in HTTP | {"sizing_sweep"}, f"{name} skipped: {fig['skipped']}"
-            assert fig["skipped"]
-            if name in HTTP:
-                assert "wrk" in fig["skipped"]
+            # only the HTTP figures may be skipped (no wrk), and they say so
+            assert name in HTTP, f"{name} skipped: {fig['skipped']}"
+            assert "wrk" in fig["skipped"]
             continue
         assert {"median", "min", "max", "target", "met"} <= set(fig), name
         assert fig["min"] <= fig["median"] <= fig["max"], name
