@@ -317,13 +317,17 @@ class Curve:
         starts = self.piece_starts
         ends = np.append(starts[1:], self.t_end)
         n = self.n_pieces
-        grid, grid_values = self._bracket_grid
-        per_piece = grid.shape[1]
+        # fewer grid points per piece when there are many small pieces (splines of many
+        # points: cubic pieces whose derivatives have at most a few roots)
+        per_piece = int(np.clip(2**18 // max(n, 1), 17, _BRACKET_SAMPLES))
+        frac = np.linspace(0.0, 1.0, per_piece)
+        grid = starts[:, None] + (ends - starts)[:, None] * frac[None, :]
+        kk = np.repeat(np.arange(n, dtype=np.intp), per_piece)
 
         def rows(t: FloatArray, piece: NDArray[np.intp]) -> FloatArray:
             return np.atleast_2d(np.asarray(slopes(self._eval_pieces(t, piece, 4)), dtype=np.float64))
 
-        derivs = np.atleast_2d(np.asarray(slopes(grid_values), dtype=np.float64))
+        derivs = rows(grid.reshape(-1), kk)
         derivs = derivs.reshape(derivs.shape[0], n, per_piece)
         times = [starts, ends]
         pieces = [np.arange(n, dtype=np.intp), np.arange(n, dtype=np.intp)]
@@ -341,24 +345,6 @@ class Curve:
                 times.append(grid[zk, zi])
                 pieces.append(zk)
         return np.concatenate(times), np.concatenate(pieces)
-
-    @cached_property
-    def _bracket_grid(self) -> tuple[FloatArray, list[FloatArray]]:
-        """Times (one row per piece) and [S, V, A, J, dJ/dT] there, where roots are bracketed.
-
-        Cached: every critical_points call (characteristic values, each indexer sizing's
-        torque peaks) starts from the same grid.
-        """
-        starts = self.piece_starts
-        ends = np.append(starts[1:], self.t_end)
-        n = self.n_pieces
-        # fewer grid points per piece when there are many small pieces (splines of many
-        # points: cubic pieces whose derivatives have at most a few roots)
-        per_piece = int(np.clip(2**18 // max(n, 1), 17, _BRACKET_SAMPLES))
-        frac = np.linspace(0.0, 1.0, per_piece)
-        grid = starts[:, None] + (ends - starts)[:, None] * frac[None, :]
-        kk = np.repeat(np.arange(n, dtype=np.intp), per_piece)
-        return grid, self._eval_pieces(grid.reshape(-1), kk, 4)
 
     def _extremum_candidates(self) -> tuple[FloatArray, FloatArray]:
         """Candidate times and values (rows S, V, A, J, A·V) of the characteristic extrema."""
@@ -529,7 +515,7 @@ class Curve:
         """Exact inverse: for each displacement s, the first T in [T0, T7] with S(T) = s.
 
         Vectorised safeguarded Newton iteration on the closed form, started from a
-        table of T at 8192 evenly spaced S levels (see :mod:`camcore.inverse`); it stops
+        table of T at 4096 evenly spaced S levels (see :mod:`camcore.inverse`); it stops
         when the residual is at the rounding level of S, or when the Newton step, its
         predicted error |A/2V|·δ², or the bracket reach the spacing of floating-point
         numbers. Raises :class:`NonMonotoneError` for a curve that is not monotone and

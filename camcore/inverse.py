@@ -4,12 +4,12 @@ For each target S the answer is the first T in [T0, T7] with S(T) = target, foun
 safeguarded Newton iteration on the closed form. What makes it fast:
 
 * a start table (:class:`InverseGrid`, built once per curve): the first T reaching each of
-  8192 + 1 evenly spaced S levels. A target finds its cell by arithmetic, and its start
+  4096 + 1 evenly spaced S levels. A target finds its cell by arithmetic, and its start
   is the cubic Hermite interpolant of T(S) in the cell (slopes dT/dS = 1/V): close enough
   that one Newton step reaches the rounding level, and the step's predicted error
   |A/2V|·δ² says so without another evaluation;
 * at a dwell end (V = 0 at T0 or T7), S − S_end ≈ c·τ^k, k the order of the first
-  non-zero derivative there, and T(S) is not smooth: in the 64 cells next to the end the
+  non-zero derivative there, and T(S) is not smooth: in the 32 cells next to the end the
   start comes from a second table, evenly spaced in z = (S − S_end)^(1/k), in which T is
   smooth (:class:`EndTable`);
 * targets go through that first step in blocks (temporaries stay in cache), evaluating the
@@ -35,8 +35,8 @@ from .curve import WORK_ROWS
 if TYPE_CHECKING:
     from .curve import Curve, FloatArray
 
-#: S levels of the start table (8 + 16 + 8 bytes a level, 256 KiB cached per curve)
-CELLS = 8192
+#: S levels of the start table (8 + 16 + 4 bytes a level: 115 kB cached per curve)
+CELLS = 4096
 
 #: targets per block: the block's dozen temporaries stay in the CPU's cache
 BLOCK = 8192
@@ -48,7 +48,7 @@ HERMITE_MAX_V_RATIO = 4.0
 #: near a dwell end (the first and last END_CELLS cells) the start comes from a table of
 #: END_LEVELS levels evenly spaced in z = (distance from the end)^(1/k), where T(z) is
 #: smooth, instead of in S, where T ∝ (S − S_end)^(1/k) is not
-END_CELLS = 64
+END_CELLS = 32
 END_LEVELS = 512
 
 #: a residual below 2 eps of |S| is rounding (between 2 and 4 ulp of S)
@@ -77,7 +77,7 @@ class InverseGrid:
     s_end: float
     t_levels: FloatArray            # CELLS + 1 times, first = T0, last = T7
     hermite: FloatArray             # (2, CELLS): ΔS/V − ΔT at both ends of a cell, 0 = linear start
-    cell_piece: NDArray[np.intp]    # the piece holding each cell, −1 where a break point is inside
+    cell_piece: NDArray[np.int32]   # the piece holding each cell, −1 where a break point is inside
     end_order: tuple[int, int]      # order k of the first non-zero derivative at T0 and at T7
     end_tables: tuple[EndTable | None, EndTable | None]  # at T0 and T7 (None: not a dwell end)
 
@@ -108,7 +108,7 @@ def build_grid(curve: Curve, direction: int) -> InverseGrid:
     last = np.searchsorted(curve.piece_starts, t_levels[1:], side="left") - 1
     first = np.clip(first, 0, curve.n_pieces - 1)
     last = np.clip(last, 0, curve.n_pieces - 1)
-    cell_piece = np.where(first == last, first, -1).astype(np.intp)
+    cell_piece = np.where(first == last, first, -1).astype(np.int32)
     ch = curve.characteristics
     peaks = [ch.vm.value, ch.am, max(ch.jm_pos.value, -ch.jm_neg.value), 0.0]
     at_start = [float(d[0]) for d in curve.derivatives(np.array([curve.t_start]), 4)[1:]]
