@@ -11,6 +11,7 @@ from starlette.responses import Response
 import camcore
 from camcore.errors import InvalidParameterError
 
+from ..routing import OrjsonRoute
 from ..core import CurveService
 from ..deps import curve_service
 from ..responses import JSONBody, encoded_response, table_response, wants_csv
@@ -28,7 +29,7 @@ from ..schemas import (
     TableRequest,
 )
 
-router = APIRouter(prefix="/v1/curves", tags=["curves"])
+router = APIRouter(prefix="/v1/curves", tags=["curves"], route_class=OrjsonRoute)
 
 ERRORS = {
     400: {"model": ErrorAnswer, "description": "Malformed body"},

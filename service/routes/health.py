@@ -9,12 +9,13 @@ from starlette.responses import Response
 
 import camcore
 
+from ..routing import OrjsonRoute
 from ..core import CurveService
 from ..deps import curve_service
 from ..responses import JSONBody
 from ..schemas import HealthAnswer
 
-router = APIRouter(tags=["service"])
+router = APIRouter(tags=["service"], route_class=OrjsonRoute)
 
 
 @router.get("/health", operation_id="getHealth", response_model=HealthAnswer)

@@ -7,6 +7,7 @@ from typing import Annotated
 from fastapi import APIRouter, Depends, Query, Request
 from starlette.responses import Response
 
+from ..routing import OrjsonRoute
 from ..deps import indexer_service
 from ..indexer_schemas import (
     AccuracyAnswer,
@@ -21,7 +22,7 @@ from ..indexers import IndexerService
 from ..responses import JSONBody, check_finite, table_response, wants_csv
 from .curves import CSV, ERRORS
 
-router = APIRouter(prefix="/v1/indexers", tags=["indexers"])
+router = APIRouter(prefix="/v1/indexers", tags=["indexers"], route_class=OrjsonRoute)
 Service = Annotated[IndexerService, Depends(indexer_service)]
 
 

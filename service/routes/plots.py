@@ -7,6 +7,7 @@ from typing import Annotated
 from fastapi import APIRouter, Depends, Query
 from starlette.responses import Response
 
+from ..routing import OrjsonRoute
 from ..plots import (
     IMAGE_RESPONSE,
     MEDIA_TYPES,
@@ -18,7 +19,7 @@ from ..plots import (
 )
 from .curves import ERRORS, CurveName
 
-router = APIRouter()
+router = APIRouter(route_class=OrjsonRoute)
 Service = Annotated[PlotService, Depends(plot_service)]
 IMAGE = {**ERRORS, 200: IMAGE_RESPONSE}
 

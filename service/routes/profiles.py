@@ -8,13 +8,14 @@ import numpy as np
 from fastapi import APIRouter, Depends, Query, Request
 from starlette.responses import Response
 
+from ..routing import OrjsonRoute
 from ..deps import profile_service
 from ..profile_schemas import BaseCircleAnswer, BaseCircleRequest, ProfileAnswer, ProfileRequest
 from ..profiles import UNBOUNDED_COLUMNS, ProfileService
 from ..responses import JSONBody, check_finite, table_response, wants_csv
 from .curves import ERRORS
 
-router = APIRouter(prefix="/v1/profiles", tags=["profiles"])
+router = APIRouter(prefix="/v1/profiles", tags=["profiles"], route_class=OrjsonRoute)
 Service = Annotated[ProfileService, Depends(profile_service)]
 
 EXPORTS = {

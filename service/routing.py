@@ -1,0 +1,75 @@
+"""Request bodies parsed with orjson: the route class every router uses.
+
+FastAPI parses a JSON body with the standard library's ``json``; for the large numeric
+bodies this service takes (2e5 S values for an inverse, 1e4 measured points) that parse
+took most of the request (80 ms of 120 for 2e5 floats; orjson: ~15 ms). What orjson
+refuses or reads differently (NaN and Infinity literals; integers beyond 64 bits, which it
+turns into floats) is parsed by the standard library as before, so every answer stays the same:
+validation still names such a field with a 422 or a 413, and a malformed body is still
+the standard library's JSON decode error (400).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable, Coroutine
+from typing import Any
+
+import orjson
+from fastapi import Request, Response
+from fastapi.routing import APIRoute
+
+
+#: every digit to "0": a run of 20 digits is then a plain substring search (C speed; a
+#: regular expression scans a 4 MB body in 200 ms)
+_DIGITS_TO_ZERO = bytes.maketrans(b"123456789", b"000000000")
+_TWENTY_DIGITS = b"0" * 20
+
+
+def _has_long_integer(body: bytes) -> bool:
+    """Whether the body has an integer literal of 20 digits or more (2^64 has 20 digits),
+    as opposed to a float's digits (0.00010500052500262501, 1e-000000000000000000001)."""
+    masked = body.translate(_DIGITS_TO_ZERO)
+    start = masked.find(_TWENTY_DIGITS)
+    while start >= 0:
+        end = start + 20
+        while end < len(masked) and masked[end] == 0x30:
+            end += 1
+        before, after = body[start - 1:start], body[end:end + 1]
+        in_float = before in (b".", b"e", b"E", b"+") or after in (b".", b"e", b"E") \
+            or (before == b"-" and body[start - 2:start - 1] in (b"e", b"E"))
+        if not in_float:
+            return True
+        start = masked.find(_TWENTY_DIGITS, end)
+    return False
+
+
+def loads(body: bytes) -> Any:
+    """json.loads(body), faster: orjson, unless the body has an integer of 20 digits or
+    more (orjson would read it as a float) or orjson refuses it (NaN, Infinity)."""
+    if not _has_long_integer(body):
+        try:
+            return orjson.loads(body)
+        except orjson.JSONDecodeError:
+            pass
+    return json.loads(body)
+
+
+class OrjsonRequest(Request):
+    async def json(self) -> Any:
+        if not hasattr(self, "_json"):
+            self._json = loads(await self.body())
+        return self._json
+
+
+class OrjsonRoute(APIRoute):
+    """An APIRoute whose handler sees an :class:`OrjsonRequest` (FastAPI's documented
+    "custom Request and APIRoute class" pattern)."""
+
+    def get_route_handler(self) -> Callable[[Request], Coroutine[Any, Any, Response]]:
+        handler = super().get_route_handler()
+
+        async def orjson_route_handler(request: Request) -> Response:
+            return await handler(OrjsonRequest(request.scope, request.receive))
+
+        return orjson_route_handler
