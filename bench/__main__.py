@@ -138,9 +138,11 @@ def scalar_port_vs_table(n: int, repeats: int) -> dict[str, Any]:
         camcore_mean.append(statistics.mean(calls))
         first_call.append(calls[0])
         ratios.append(port[-1] / camcore_mean[-1])
-    ms_ = lambda xs: round(statistics.median(xs) * 1e3, 3)  # noqa: E731
-    return figure(ratios, ">= 80", points=n, port_ms=ms_(port), camcore_ms=ms_(camcore_mean),
-                  camcore_loops=loops, camcore_first_call_after_port_ms=ms_(first_call),
+    def median_ms(xs: list[float]) -> float:
+        return round(statistics.median(xs) * 1e3, 3)
+
+    return figure(ratios, ">= 80", points=n, port_ms=median_ms(port), camcore_ms=median_ms(camcore_mean),
+                  camcore_loops=loops, camcore_first_call_after_port_ms=median_ms(first_call),
                   ratio_to_first_call=round(statistics.median([p / f for p, f in zip(port, first_call)]), 2),
                   agrees_with_camcore=agrees, max_relative_error=errors,
                   what="pure-Python port of Makino's CURVE, one T per call ÷ camcore (mean of back-to-back "

@@ -337,7 +337,7 @@ class Curve:
             if k_idx.size:
                 lo, hi = grid[k_idx, i_idx].copy(), grid[k_idx, i_idx + 1].copy()
                 f_lo, f_hi = d[k_idx, i_idx].copy(), d[k_idx, i_idx + 1].copy()
-                _refine_roots(lambda t, k: rows(t, k)[q], lo, hi, f_lo, f_hi, k_idx)
+                _refine_roots(lambda t, k, row=q: rows(t, k)[row], lo, hi, f_lo, f_hi, k_idx)
                 times.append(0.5 * (lo + hi))
                 pieces.append(k_idx)
             zk, zi = np.nonzero(d == 0.0)

@@ -19,7 +19,6 @@ import orjson
 from fastapi import Request, Response
 from fastapi.routing import APIRoute
 
-
 #: every digit to "0": a run of 20 digits is then a plain substring search (C speed; a
 #: regular expression scans a 4 MB body in 200 ms)
 _DIGITS_TO_ZERO = bytes.maketrans(b"123456789", b"000000000")

@@ -11,10 +11,10 @@ from starlette.responses import Response
 import camcore
 from camcore.errors import InvalidParameterError
 
-from ..routing import OrjsonRoute
 from ..core import CurveService
 from ..deps import curve_service
 from ..responses import JSONBody, encoded_response, table_response, wants_csv
+from ..routing import OrjsonRoute
 from ..schemas import (
     CatalogAnswer,
     CatalogEntryAnswer,

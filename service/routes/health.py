@@ -9,10 +9,10 @@ from starlette.responses import Response
 
 import camcore
 
-from ..routing import OrjsonRoute
 from ..core import CurveService
 from ..deps import curve_service
 from ..responses import JSONBody
+from ..routing import OrjsonRoute
 from ..schemas import HealthAnswer
 
 router = APIRouter(tags=["service"], route_class=OrjsonRoute)

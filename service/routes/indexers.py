@@ -7,7 +7,6 @@ from typing import Annotated
 from fastapi import APIRouter, Depends, Query, Request
 from starlette.responses import Response
 
-from ..routing import OrjsonRoute
 from ..deps import indexer_service
 from ..indexer_schemas import (
     AccuracyAnswer,
@@ -20,6 +19,7 @@ from ..indexer_schemas import (
 )
 from ..indexers import IndexerService
 from ..responses import JSONBody, check_finite, table_response, wants_csv
+from ..routing import OrjsonRoute
 from .curves import CSV, ERRORS
 
 router = APIRouter(prefix="/v1/indexers", tags=["indexers"], route_class=OrjsonRoute)

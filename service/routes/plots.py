@@ -7,7 +7,6 @@ from typing import Annotated
 from fastapi import APIRouter, Depends, Query
 from starlette.responses import Response
 
-from ..routing import OrjsonRoute
 from ..plots import (
     IMAGE_RESPONSE,
     MEDIA_TYPES,
@@ -17,6 +16,7 @@ from ..plots import (
     ProfilePlotQuery,
     plot_service,
 )
+from ..routing import OrjsonRoute
 from .curves import ERRORS, CurveName
 
 router = APIRouter(route_class=OrjsonRoute)

@@ -8,11 +8,11 @@ import numpy as np
 from fastapi import APIRouter, Depends, Query, Request
 from starlette.responses import Response
 
-from ..routing import OrjsonRoute
 from ..deps import profile_service
 from ..profile_schemas import BaseCircleAnswer, BaseCircleRequest, ProfileAnswer, ProfileRequest
 from ..profiles import UNBOUNDED_COLUMNS, ProfileService
 from ..responses import JSONBody, check_finite, table_response, wants_csv
+from ..routing import OrjsonRoute
 from .curves import ERRORS
 
 router = APIRouter(prefix="/v1/profiles", tags=["profiles"], route_class=OrjsonRoute)

@@ -7,6 +7,7 @@ import asyncio
 import json
 
 import pytest
+
 from service.app import create_app
 from service.routes import curves, health, indexers, plots, profiles
 from service.routing import OrjsonRequest, OrjsonRoute
