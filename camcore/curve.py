@@ -507,7 +507,7 @@ class Curve:
     @cached_property
     def _inverse_grid(self) -> InverseGrid:
         """The inverse's start table (built once per curve with the robust solver; cached)."""
-        from .inverse import build_grid
+        from .inverse import build_grid  # camcore.inverse imports this module
 
         return build_grid(self, self._require_monotone())
 
@@ -521,7 +521,7 @@ class Curve:
         numbers. Raises :class:`NonMonotoneError` for a curve that is not monotone and
         :class:`StrokeRangeError` for s outside the stroke.
         """
-        from .inverse import solve
+        from .inverse import solve  # here, not at the top: camcore.inverse imports this module
 
         self._require_monotone()
         s_arr = np.asarray(s, dtype=np.float64)
