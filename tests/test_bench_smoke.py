@@ -42,3 +42,24 @@ def test_bench_smoke_reports_every_figure() -> None:
         assert fig["min"] <= fig["median"] <= fig["max"], name
         assert fig["median"] > 0, name
     assert figures["scalar_port_vs_table"]["agrees_with_camcore"] is True
+
+
+def _medians(markdown: str, heading: str) -> dict[str, str]:
+    """figure → median column of the first table after ``heading`` in a Markdown text."""
+    section = markdown[markdown.index(heading):]
+    rows = {}
+    for line in section.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if cells[0] in FIGURES:
+            rows[cells[0]] = cells[1]
+        elif rows and not line.startswith("|"):
+            break
+    return rows
+
+
+def test_readme_figures_are_the_bench_readmes() -> None:
+    """The README's figures are the latest run recorded in bench/README.md (no drift)."""
+    readme = _medians((ROOT / "README.md").read_text(encoding="utf-8"), "## Performance")
+    bench = _medians((ROOT / "bench" / "README.md").read_text(encoding="utf-8"), "## Latest figures")
+    assert set(readme) == FIGURES
+    assert readme == bench
