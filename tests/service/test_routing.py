@@ -26,6 +26,8 @@ def parse(body: bytes) -> object:
     b'{"s": [NaN, Infinity, -Infinity]}',          # orjson refuses these literals
     b'{"samples": 1000000000000000000000000000}',   # orjson reads integers beyond 64 bits as floats
     b'{"samples": [-12345678901234567890123, 18446744073709551615]}',
+    b'{"samples": -9223372036854775809}',           # 19 digits, below -2**63: orjson reads a float
+    b'{"samples": [9223372036854775807, -9223372036854775808, 1234567890123456789]}',
     b'{"t": [0.00010500052500262501, 1e-310, 12345678901234567890.5, 1.5e-00000000000000000000001]}',
     b'{"samples": 12345678901234567890123, "s": [0.00010500052500262501]}',
     '{"name": "Modified Sine \u00e9"}'.encode(),
