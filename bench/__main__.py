@@ -236,10 +236,10 @@ def _free_port() -> int:
 class Server:
     """``python -m service`` on 127.0.0.1 and a free port, pinned with taskset; stopped on exit."""
 
-    def __init__(self, workers: int, cpus: str):
+    def __init__(self, workers: int, cpus: str, **settings: str):
         self.port = _free_port()
         env = {**os.environ, "CAMCORE_HOST": "127.0.0.1", "CAMCORE_PORT": str(self.port),
-               "CAMCORE_WORKERS": str(workers), "CAMCORE_LOG_LEVEL": "warning"}
+               "CAMCORE_WORKERS": str(workers), "CAMCORE_LOG_LEVEL": "warning", **settings}
         cmd = [sys.executable, "-m", "service"]
         if shutil.which("taskset"):
             cmd = ["taskset", "-c", cpus, *cmd]
@@ -304,24 +304,32 @@ def http_figures(seconds: int, runs: int) -> dict[str, Any]:
             'wrk.headers["Content-Type"] = "application/json"\n'
             f"wrk.body = '{json.dumps(TABLE_BODY)}'\n"
         )
-        health, table1, table2 = [], [], []
-        # both servers up at once (the idle one costs nothing) so that the runs interleave:
-        # /health and the table on one worker, then the table on two, run after run
-        with Server(workers=1, cpus="0") as one, Server(workers=2, cpus="0,1") as two:
+        health, table1, table2, uncached = [], [], [], []
+        # the servers are up at once (an idle one costs nothing) so that the runs interleave:
+        # /health and the table on one worker, the table on two, and the table on one worker
+        # with the table cache off (every request computes and encodes it), run after run
+        with Server(workers=1, cpus="0") as one, Server(workers=2, cpus="0,1") as two, \
+                Server(workers=1, cpus="0", CAMCORE_TABLE_CACHE_SIZE="0") as no_cache:
             # warm-up: a fresh server is slower for its first seconds under load
             warm = min(3, seconds)
             wrk(one.url + "/health", warm)
-            wrk(one.url + "/v1/curves/table", warm, str(lua))
-            wrk(two.url + "/v1/curves/table", warm, str(lua))
+            for server in (one, two, no_cache):
+                wrk(server.url + "/v1/curves/table", warm, str(lua))
             for _ in range(runs):
                 health.append(wrk(one.url + "/health", seconds))
                 table1.append(wrk(one.url + "/v1/curves/table", seconds, str(lua)))
                 table2.append(wrk(two.url + "/v1/curves/table", seconds, str(lua)))
+                uncached.append(wrk(no_cache.url + "/v1/curves/table", seconds, str(lua)))
     p99 = [r["p99_ms"] for r in table1]
     return {
         "http_table_vs_ceiling": figure(
             [t["rps"] / h["rps"] for t, h in zip(table1, health)], ">= 0.5",
             table_rps=[t["rps"] for t in table1], health_rps=[h["rps"] for h in health],
+            # every wrk request sends the same body, so the figure's table comes from the cache;
+            # what a request that misses it costs, for comparison
+            uncached_table_rps=[u["rps"] for u in uncached],
+            uncached_ratio=round(statistics.median(u["rps"] / h["rps"] for u, h in zip(uncached, health)), 4),
+            uncached_p99_ms=[u["p99_ms"] for u in uncached],
             what="req/s of POST /v1/curves/table (101 rows, MS) ÷ req/s of GET /health; 1 worker, 32 connections, "
                  f"wrk -d{seconds}s", pinning=PINNING),
         "http_p99_ms": figure(p99, "<= 20", unit="ms", two_workers_p99_ms=[t["p99_ms"] for t in table2],

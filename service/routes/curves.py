@@ -68,15 +68,21 @@ async def sample_curve(body: TableRequest, request: Request, service: Service) -
     csv = wants_csv(request)
     if body.samples is not None:
         return encoded_response(await _sampled_table(service, body.curve, body.samples, csv), csv)
-    columns = await run_in_threadpool(service.table_columns, body.curve, body.samples, body.t)
-    return await run_in_threadpool(table_response, columns, csv)
+    assert body.t is not None  # TableRequest requires samples or t
+    if service.is_quick_table(body.curve, len(body.t)):
+        return encoded_response(service.table_at_times(body.curve, body.t, csv), csv)
+    return encoded_response(await run_in_threadpool(service.table_at_times, body.curve, body.t, csv), csv)
 
 
 async def _sampled_table(service: CurveService, spec: CurveSpec, samples: int, csv: bool) -> bytes:
-    """A cached table is answered on the event loop; computing one goes to a worker thread."""
+    """A cached table, or a small one on a built curve, is answered on the event loop;
+    other work goes to a worker thread."""
     payload = service.table_if_cached(spec, samples, csv)
     if payload is None:
-        payload = await run_in_threadpool(service.cached_table, spec, samples, csv)
+        if service.is_quick_table(spec, samples):
+            payload = service.cached_table(spec, samples, csv)
+        else:
+            payload = await run_in_threadpool(service.cached_table, spec, samples, csv)
     return payload
 
 

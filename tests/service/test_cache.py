@@ -32,3 +32,10 @@ def test_disabled_cache_still_answers() -> None:
     assert cache.get_or_create("a", lambda: 1) == 1
     assert cache.get_or_create("a", lambda: 2) == 2
     assert cache.stats()["size"] == 0
+
+
+def test_contains_counts_nothing() -> None:
+    cache: LRUCache[int] = LRUCache(2)
+    cache.get_or_create("a", lambda: 1)
+    assert "a" in cache and "b" not in cache
+    assert cache.stats() == {"size": 1, "maxsize": 2, "hits": 0, "misses": 1}
