@@ -511,6 +511,12 @@ class Curve:
 
         return build_grid(self, self._require_monotone())
 
+    @property
+    def inverse_ready(self) -> bool:
+        """Whether :meth:`inverse` has its start table (the first call on a curve builds
+        it, a few milliseconds; every later call only solves)."""
+        return "_inverse_grid" in self.__dict__
+
     def inverse(self, s: ArrayLike) -> FloatArray:
         """Exact inverse: for each displacement s, the first T in [T0, T7] with S(T) = s.
 

@@ -26,10 +26,10 @@ class LRUCache(Generic[V]):
         self._data: OrderedDict[Hashable, V] = OrderedDict()
         self._lock = threading.Lock()
 
-    def __contains__(self, key: Hashable) -> bool:
-        """Whether the key is cached (neither a hit nor a miss, and no change of order)."""
+    def peek(self, key: Hashable) -> V | None:
+        """The cached value or None, counted neither as a hit nor a miss (order unchanged)."""
         with self._lock:
-            return key in self._data
+            return self._data.get(key)
 
     def get(self, key: Hashable) -> V | None:
         """The cached value (counted as a hit), or None without counting a miss.

@@ -89,10 +89,18 @@ class CurveService:
             return PointsCurve(spec.t, spec.s, v=spec.v, max_points=self.settings.max_curve_points)
         raise TypeError(f"unknown curve spec {type(spec).__name__}")  # pragma: no cover - union is closed
 
+    # A route answers quick work on the event loop and sends the rest to a worker thread.
     def is_quick_table(self, spec: CurveSpec, rows: int) -> bool:
-        """Whether a table of ``rows`` is small work: the curve is built and rows are few
-        (the route then answers it on the event loop instead of in a worker thread)."""
-        return rows <= QUICK_TABLE_ROWS and spec_key(spec) in self.curves
+        """Whether a table of ``rows`` is quick work: the curve is built and rows are few."""
+        return rows <= QUICK_TABLE_ROWS and self.curves.peek(spec_key(spec)) is not None
+
+    def is_quick_inverse(self, spec: CurveSpec, values: int, method: str) -> bool:
+        """Whether an inverse is quick work: exact, for few values, on a built curve whose
+        inverse has its start table (the catalog's table method builds a table each time)."""
+        if method != "exact" or values > QUICK_TABLE_ROWS:
+            return False
+        curve = self.curves.peek(spec_key(spec))
+        return curve is not None and curve.inverse_ready
 
     # ------------------------------------------------------------------ answers
     def characteristics(self, spec: CurveSpec) -> dict[str, float]:
@@ -146,6 +154,13 @@ class CurveService:
         t = curve.inverse(s_arr)
         _s, v, a = curve.derivatives(t, 2)
         return {"s": s_arr, "t": t, "v": v, "a": a}
+
+    def inverse_table(
+        self, spec: CurveSpec, s: list[float], method: str, table_step: float, table_decimals: int | None,
+        csv: bool,
+    ) -> bytes:
+        """The encoded inverse answer (JSON or CSV)."""
+        return encode_table(self.inverse_columns(spec, s, method, table_step, table_decimals), csv)
 
     def catalog_entry(self, entry: camcore.CatalogEntry) -> dict[str, Any]:
         return {

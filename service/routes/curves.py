@@ -13,7 +13,7 @@ from camcore.errors import InvalidParameterError
 
 from ..core import CurveService
 from ..deps import curve_service
-from ..responses import JSONBody, encoded_response, table_response, wants_csv
+from ..responses import JSONBody, encoded_response, wants_csv
 from ..routing import OrjsonRoute
 from ..schemas import (
     CatalogAnswer,
@@ -101,10 +101,21 @@ async def sample_named_curve(
 
 
 @router.post("/inverse", operation_id="invertCurve", response_model=InverseTable, responses={**ERRORS, 200: CSV})
-def invert_curve(body: InverseRequest, request: Request, service: Service) -> Response:
+async def invert_curve(body: InverseRequest, request: Request, service: Service) -> Response:
     """T (and V, A) where S(T) = s: exact, or the catalog's table interpolation."""
-    columns = service.inverse_columns(body.curve, body.s, body.method, body.table_step, body.table_decimals)
-    return table_response(columns, wants_csv(request))
+    return await _inverse(service, body.curve, body.s, body.method, body.table_step, body.table_decimals,
+                          wants_csv(request))
+
+
+async def _inverse(service: CurveService, spec: CurveSpec, s: list[float], method: str, table_step: float,
+                   table_decimals: int | None, csv: bool) -> Response:
+    """Quick work on the event loop, other work in a worker thread."""
+    args = (spec, s, method, table_step, table_decimals, csv)
+    if service.is_quick_inverse(spec, len(s), method):
+        payload = service.inverse_table(*args)
+    else:
+        payload = await run_in_threadpool(service.inverse_table, *args)
+    return encoded_response(payload, csv)
 
 
 def _parse_numbers(values: list[str], name: str) -> list[float]:
@@ -128,7 +139,7 @@ def _parse_numbers(values: list[str], name: str) -> list[float]:
 
 @router.get("/{name}/inverse", operation_id="invertNamedCurve", response_model=InverseTable,
             responses={**ERRORS, 200: CSV})
-def invert_named_curve(
+async def invert_named_curve(
     name: CurveName,
     service: Service,
     s: Annotated[list[str], Query(description="S values: repeat ?s= or separate by commas")],
@@ -140,5 +151,5 @@ def invert_named_curve(
 ) -> Response:
     """The inverse lookup of a catalog curve, for spreadsheets (``?s=0.1833&format=csv``)."""
     spec = NamedCurveSpec(name=name, direction=direction)
-    columns = service.inverse_columns(spec, _parse_numbers(s, "s"), method, table_step, table_decimals)
-    return table_response(columns, format == "csv")
+    return await _inverse(service, spec, _parse_numbers(s, "s"), method, table_step, table_decimals,
+                          format == "csv")

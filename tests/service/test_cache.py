@@ -34,8 +34,11 @@ def test_disabled_cache_still_answers() -> None:
     assert cache.stats()["size"] == 0
 
 
-def test_contains_counts_nothing() -> None:
+def test_peek_counts_nothing_and_keeps_the_order() -> None:
     cache: LRUCache[int] = LRUCache(2)
     cache.get_or_create("a", lambda: 1)
-    assert "a" in cache and "b" not in cache
-    assert cache.stats() == {"size": 1, "maxsize": 2, "hits": 0, "misses": 1}
+    cache.get_or_create("b", lambda: 2)
+    assert cache.peek("a") == 1 and cache.peek("c") is None
+    cache.get_or_create("c", lambda: 3)  # "a" is still the least recently used: it goes
+    assert cache.peek("a") is None and cache.peek("b") == 2
+    assert cache.stats() == {"size": 2, "maxsize": 2, "hits": 0, "misses": 3}

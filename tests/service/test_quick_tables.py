@@ -74,3 +74,28 @@ async def test_large_tables_still_go_to_a_thread(uncached_client: httpx.AsyncCli
     assert at_times.json()["s"][:5] == (await uncached_client.post(
         "/v1/curves/table", json={"curve": MS, "t": many_t[:5]})).json()["s"]
 
+
+
+@pytest.mark.parametrize("how", ["post", "get"])
+async def test_exact_inverse_is_quick_once_the_start_table_is_built(
+    uncached_client: httpx.AsyncClient, thread_calls: list[str], how: str
+) -> None:
+    async def ask(s: list[float], method: str = "exact") -> httpx.Response:
+        if how == "post":
+            return await uncached_client.post("/v1/curves/inverse", json={"curve": MS, "s": s, "method": method})
+        return await uncached_client.get("/v1/curves/MS/inverse", params={"s": s, "method": method})
+
+    # INDEXMAN technical guide, worked example: S = 0.1833 on MS (T ≈ 0.304)
+    first = await ask([0.1833])
+    assert first.status_code == 200 and thread_calls == ["inverse_table"]  # builds the start table
+    again = await ask([0.1833])
+    assert again.content == first.content and thread_calls == ["inverse_table"]
+    assert abs(again.json()["t"][0] - 0.304) < 5e-4  # the guide prints T to 3 decimals
+    await ask([0.1833], method="table")  # the catalog's method builds its table each time
+    assert thread_calls == ["inverse_table", "inverse_table"]
+    many = [i / (QUICK_TABLE_ROWS + 1) for i in range(QUICK_TABLE_ROWS + 1)]
+    if how == "post":
+        assert (await ask(many)).status_code == 200
+        assert len(thread_calls) == 3
+    outside = await ask([1.5])  # outside the stroke: the same 422 on the quick path
+    assert outside.status_code == 422 and "errors" in outside.json()
