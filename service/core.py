@@ -28,11 +28,6 @@ from .schemas import (
 from .settings import Settings
 
 
-def spec_key(spec: Any) -> str:
-    """A canonical cache key: the spec's JSON with every field, defaults included."""
-    return str(spec.model_dump_json())
-
-
 #: rows of a table worth a thread-pool hop: below this, on a curve already built, the work
 #: (0.07 ms for 101 rows of MS, ~1 ms for 1001 rows of a degree-20 Bezier) costs less than
 #: the hop does under load, and with the GIL a thread would not run beside the loop anyway
@@ -55,7 +50,7 @@ class CurveService:
     # ------------------------------------------------------------------ curves
     def curve(self, spec: CurveSpec) -> Curve:
         self._check_spec_size(spec)
-        return self.curves.get_or_create(spec_key(spec), lambda: self._build(spec))
+        return self.curves.get_or_create(spec.cache_key(), lambda: self._build(spec))
 
     def _check_spec_size(self, spec: CurveSpec) -> None:
         if isinstance(spec, BezierCurveSpec):
@@ -92,14 +87,14 @@ class CurveService:
     # A route answers quick work on the event loop and sends the rest to a worker thread.
     def is_quick_table(self, spec: CurveSpec, rows: int) -> bool:
         """Whether a table of ``rows`` is quick work: the curve is built and rows are few."""
-        return rows <= QUICK_TABLE_ROWS and self.curves.peek(spec_key(spec)) is not None
+        return rows <= QUICK_TABLE_ROWS and self.curves.peek(spec.cache_key()) is not None
 
     def is_quick_inverse(self, spec: CurveSpec, values: int, method: str) -> bool:
         """Whether an inverse is quick work: exact, for few values, on a built curve whose
         inverse has its start table (the catalog's table method builds a table each time)."""
         if method != "exact" or values > QUICK_TABLE_ROWS:
             return False
-        curve = self.curves.peek(spec_key(spec))
+        curve = self.curves.peek(spec.cache_key())
         return curve is not None and curve.inverse_ready
 
     # ------------------------------------------------------------------ answers
@@ -131,14 +126,14 @@ class CurveService:
 
         if samples > self.settings.table_cache_max_rows:
             return build()
-        return self.tables.get_or_create((spec_key(spec), samples, csv), build)
+        return self.tables.get_or_create((spec.cache_key(), samples, csv), build)
 
     def table_if_cached(self, spec: CurveSpec, samples: int, csv: bool) -> bytes | None:
         """The encoded table if it is in the cache (no computation: cheap enough for the
         event loop), else None: then :meth:`cached_table` builds it."""
         if samples > self.settings.table_cache_max_rows:
             return None
-        return self.tables.get((spec_key(spec), samples, csv))
+        return self.tables.get((spec.cache_key(), samples, csv))
 
     def inverse_columns(
         self, spec: CurveSpec, s: list[float], method: str, table_step: float, table_decimals: int | None

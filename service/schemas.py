@@ -8,9 +8,10 @@ service layer, which answers 413 naming the limit.
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from collections.abc import Mapping
+from typing import Annotated, Any, Literal, Self
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import BaseModel, ConfigDict, Field, PrivateAttr, model_validator
 
 #: magnitude bound for dimensionless inputs: far beyond any cam, small enough that
 #: squares and products of a few of them stay finite in float64
@@ -22,6 +23,21 @@ Direction = Literal["rise", "return"]
 
 class Spec(BaseModel):
     model_config = ConfigDict(extra="forbid")
+    _cache_key: str | None = PrivateAttr(None)
+
+    def cache_key(self) -> str:
+        """The spec's JSON with every field, defaults included: the key of the service's
+        caches. Made once per spec (specs are not changed after validation): a request asks
+        for it several times, and a 10 000-point spec takes ~1.5 ms to dump."""
+        if self._cache_key is None:
+            self._cache_key = self.model_dump_json()
+        return self._cache_key
+
+    def model_copy(self, *, update: Mapping[str, Any] | None = None, deep: bool = False) -> Self:
+        copy = super().model_copy(update=update, deep=deep)
+        if update:
+            copy._cache_key = None  # a changed copy is another spec
+        return copy
 
 
 # ----------------------------------------------------------------------------- curve specs

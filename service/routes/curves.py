@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from collections.abc import Callable
+from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, Depends, Path, Query, Request
 from starlette.concurrency import run_in_threadpool
@@ -69,9 +70,14 @@ async def sample_curve(body: TableRequest, request: Request, service: Service) -
     if body.samples is not None:
         return encoded_response(await _sampled_table(service, body.curve, body.samples, csv), csv)
     assert body.t is not None  # TableRequest requires samples or t
-    if service.is_quick_table(body.curve, len(body.t)):
-        return encoded_response(service.table_at_times(body.curve, body.t, csv), csv)
-    return encoded_response(await run_in_threadpool(service.table_at_times, body.curve, body.t, csv), csv)
+    quick = service.is_quick_table(body.curve, len(body.t))
+    return encoded_response(await _run(quick, service.table_at_times, body.curve, body.t, csv), csv)
+
+
+async def _run(quick: bool, work: Callable[..., bytes], *args: Any) -> bytes:
+    """Quick work (see CurveService.is_quick_table) on the event loop, other work in a
+    worker thread."""
+    return work(*args) if quick else await run_in_threadpool(work, *args)
 
 
 async def _sampled_table(service: CurveService, spec: CurveSpec, samples: int, csv: bool) -> bytes:
@@ -79,10 +85,7 @@ async def _sampled_table(service: CurveService, spec: CurveSpec, samples: int, c
     other work goes to a worker thread."""
     payload = service.table_if_cached(spec, samples, csv)
     if payload is None:
-        if service.is_quick_table(spec, samples):
-            payload = service.cached_table(spec, samples, csv)
-        else:
-            payload = await run_in_threadpool(service.cached_table, spec, samples, csv)
+        payload = await _run(service.is_quick_table(spec, samples), service.cached_table, spec, samples, csv)
     return payload
 
 
@@ -109,12 +112,8 @@ async def invert_curve(body: InverseRequest, request: Request, service: Service)
 
 async def _inverse(service: CurveService, spec: CurveSpec, s: list[float], method: str, table_step: float,
                    table_decimals: int | None, csv: bool) -> Response:
-    """Quick work on the event loop, other work in a worker thread."""
-    args = (spec, s, method, table_step, table_decimals, csv)
-    if service.is_quick_inverse(spec, len(s), method):
-        payload = service.inverse_table(*args)
-    else:
-        payload = await run_in_threadpool(service.inverse_table, *args)
+    quick = service.is_quick_inverse(spec, len(s), method)
+    payload = await _run(quick, service.inverse_table, spec, s, method, table_step, table_decimals, csv)
     return encoded_response(payload, csv)
 
 

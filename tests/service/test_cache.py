@@ -42,3 +42,14 @@ def test_peek_counts_nothing_and_keeps_the_order() -> None:
     cache.get_or_create("c", lambda: 3)  # "a" is still the least recently used: it goes
     assert cache.peek("a") is None and cache.peek("b") == 2
     assert cache.stats() == {"size": 2, "maxsize": 2, "hits": 0, "misses": 3}
+
+
+def test_spec_cache_key_is_made_once_and_follows_a_changed_copy() -> None:
+    from service.schemas import NamedCurveSpec
+
+    spec = NamedCurveSpec(name="MS")
+    key = spec.cache_key()
+    assert key == spec.model_dump_json() and spec.cache_key() is key  # the same string object: made once
+    changed = spec.model_copy(update={"direction": "return"})
+    assert changed.cache_key() == NamedCurveSpec(name="MS", direction="return").model_dump_json() != key
+    assert spec.model_copy().cache_key() == key

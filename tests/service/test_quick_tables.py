@@ -75,7 +75,6 @@ async def test_large_tables_still_go_to_a_thread(uncached_client: httpx.AsyncCli
         "/v1/curves/table", json={"curve": MS, "t": many_t[:5]})).json()["s"]
 
 
-
 @pytest.mark.parametrize("how", ["post", "get"])
 async def test_exact_inverse_is_quick_once_the_start_table_is_built(
     uncached_client: httpx.AsyncClient, thread_calls: list[str], how: str
