@@ -1,11 +1,31 @@
 """camcore: cam motion curves, indexer sizing and plate-cam profiles (pure numpy).
 
 Anyone can ``import camcore`` in a notebook or a batch job and get the numbers the
-service gives.
+service gives. The packages: :mod:`camcore.curves` (motion laws, characteristic values,
+inverses, the catalog), :mod:`camcore.indexer` (cam indexers), :mod:`camcore.profile`
+(plate cams), :mod:`camcore.export` (contour files); results become plain data through
+:mod:`camcore.results`.
 """
 
-from .catalog import CATALOG, CatalogEntry, lookup, named_curve
-from .curve import Characteristics, Curve, CurveValues, Extremum
+from . import curves, export, indexer, profile
+from .curves import (
+    CATALOG,
+    CURVE_KINDS,
+    CatalogEntry,
+    Characteristics,
+    Curve,
+    CurveValues,
+    PolynomialCurve,
+    ReturnCurve,
+    UniversalCurve,
+    build_curve,
+    lookup,
+    makino_curve,
+    named_curve,
+    named_polynomial,
+    polynomial_from_boundary,
+    universal_curve,
+)
 from .errors import (
     CamError,
     DegenerateCurveError,
@@ -18,22 +38,16 @@ from .errors import (
     StrokeRangeError,
     UnknownCurveError,
 )
-from .polynomial import PolynomialCurve, named_polynomial, polynomial_from_boundary
-from .transform import ReturnCurve
-from .universal import UniversalCurve, makino_curve, universal_curve
+from .indexer import Indexer, Load, LoadPart, accuracy_mm, size
+from .results import Extremum, as_dict
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "CATALOG", "CamError", "CatalogEntry", "Characteristics", "Curve", "CurveValues",
-    "DegenerateCurveError", "Extremum", "GeometryError", "InvalidBreakPointsError",
-    "InvalidParameterError", "LimitExceededError", "NonMonotoneError", "PolynomialCurve",
-    "ReturnCurve", "StrokeClosureError", "StrokeRangeError", "UniversalCurve",
-    "UnknownCurveError", "lookup", "makino_curve", "named_curve", "named_polynomial",
-    "polynomial_from_boundary", "universal_curve", "__version__",
+    "CATALOG", "CURVE_KINDS", "CamError", "CatalogEntry", "Characteristics", "Curve", "CurveValues",
+    "DegenerateCurveError", "Extremum", "GeometryError", "Indexer", "InvalidBreakPointsError",
+    "InvalidParameterError", "LimitExceededError", "Load", "LoadPart", "NonMonotoneError", "PolynomialCurve",
+    "ReturnCurve", "StrokeClosureError", "StrokeRangeError", "UniversalCurve", "UnknownCurveError", "__version__",
+    "accuracy_mm", "as_dict", "build_curve", "curves", "export", "indexer", "lookup", "makino_curve",
+    "named_curve", "named_polynomial", "polynomial_from_boundary", "profile", "size", "universal_curve",
 ]
-
-from . import export, indexer, profile  # noqa: E402  (subpackages: indexer sizing, plate-cam profiles)
-from .indexer import Indexer, Load, LoadPart, accuracy_mm, size  # noqa: E402
-
-__all__ += ["Indexer", "Load", "LoadPart", "accuracy_mm", "export", "indexer", "profile", "size"]

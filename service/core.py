@@ -11,7 +11,8 @@ from typing import Any
 import numpy as np
 
 import camcore
-from camcore.curve import Curve
+from camcore.curves import Curve
+from camcore.results import as_dict
 from camcore.errors import LimitExceededError
 
 from .cache import LRUCache
@@ -75,11 +76,11 @@ class CurveService:
             assert spec.start is not None and spec.end is not None
             return camcore.polynomial_from_boundary(spec.start.model_dump(), spec.end.model_dump())
         if isinstance(spec, BezierCurveSpec):
-            from camcore.bezier import BezierCurve
+            from camcore.curves.bezier import BezierCurve
 
             return BezierCurve(spec.control_points, max_degree=self.settings.max_bezier_degree)
         if isinstance(spec, PointsCurveSpec):
-            from camcore.spline import PointsCurve
+            from camcore.curves.points import PointsCurve
 
             return PointsCurve(spec.t, spec.s, v=spec.v, max_points=self.settings.max_curve_points)
         raise TypeError(f"unknown curve spec {type(spec).__name__}")  # pragma: no cover - union is closed
@@ -99,7 +100,7 @@ class CurveService:
 
     # ------------------------------------------------------------------ answers
     def characteristics(self, spec: CurveSpec) -> dict[str, float]:
-        return self.curve(spec).characteristics.as_dict()
+        return as_dict(self.curve(spec).characteristics)
 
     def table_columns(self, spec: CurveSpec, samples: int | None, t: list[float] | None) -> dict[str, np.ndarray]:
         curve = self.curve(spec)
@@ -166,7 +167,7 @@ class CurveService:
             "source": entry.source,
             "makino_number": entry.makino_number,
             "parameters": entry.parameters,
-            "characteristics": entry.build().characteristics.as_dict(),
+            "characteristics": as_dict(entry.build().characteristics),
         }
 
     def catalog(self) -> list[dict[str, Any]]:

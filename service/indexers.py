@@ -7,6 +7,7 @@ from typing import Any
 import numpy as np
 
 from camcore import indexer as core
+from camcore.results import as_dict
 
 from .core import CurveService
 from .indexer_schemas import IndexerSpec, LoadSpec
@@ -33,7 +34,7 @@ class IndexerService:
     def motion(self, spec: IndexerSpec, samples: int) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
         self.curves.check_limit("table samples", samples, self.curves.settings.max_table_samples)
         result = self.indexer(spec).motion(samples)
-        return result.summary.as_dict(), result.table.columns()
+        return as_dict(result.summary), result.table.columns()
 
     def position(self, spec: IndexerSpec, output_angle_deg: list[float], method: str, table_step: float,
                  table_decimals: int | None) -> dict[str, np.ndarray]:
@@ -57,7 +58,7 @@ class IndexerService:
         )
         result = core.size(self.indexer(spec), core_load, accuracy_arc_seconds=load.accuracy_arc_seconds,
                            accuracy_radius_mm=load.accuracy_radius_mm)
-        return result.as_dict()
+        return as_dict(result)
 
     @staticmethod
     def accuracy(arc_seconds: float, radius_mm: float) -> dict[str, float]:

@@ -35,7 +35,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from camcore.curve import Characteristics, CurveValues
+    from camcore.curves import Characteristics, CurveValues
     from camcore.profile import ProfileResult
 
 ImageFormat = Literal["svg", "png"]

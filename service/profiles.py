@@ -8,6 +8,7 @@ import numpy as np
 
 from camcore import export
 from camcore import profile as core
+from camcore.results import as_dict
 
 from .core import CurveService
 from .profile_schemas import ProfileSpec
@@ -61,14 +62,12 @@ class ProfileService:
 
     @staticmethod
     def checks(result: core.ProfileResult) -> dict[str, Any]:
-        out = result.checks.as_dict()
-        out["corners_deg"] = list(out.get("corners_deg") or [])
-        return out
+        return as_dict(result.checks)
 
     def base_circle(self, spec: ProfileSpec, max_pressure_angle_deg: float | None,
                     min_radius_of_curvature_mm: float | None) -> dict[str, Any]:
         result = core.size_base_circle(self.cam(spec), max_pressure_angle_deg, min_radius_of_curvature_mm)
-        return {k: getattr(result, k) for k in result.__dataclass_fields__}
+        return as_dict(result)
 
     @staticmethod
     def export(result: core.ProfileResult, fmt: str, base_radius_mm: float) -> tuple[bytes, str, str]:

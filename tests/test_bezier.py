@@ -15,7 +15,7 @@ import mpmath
 import numpy as np
 import pytest
 
-from camcore.bezier import BezierCurve
+from camcore.curves.bezier import BezierCurve
 from camcore.errors import DegenerateCurveError, LimitExceededError, NonMonotoneError
 
 EPS = np.finfo(float).eps

@@ -38,7 +38,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import camcore
-from camcore.universal import UniversalCurve
+from camcore.curves.universal import UniversalCurve
 
 EXAMPLES = int(os.environ.get("HYPOTHESIS_CURVE_EXAMPLES", "60"))
 SETTINGS = settings(max_examples=EXAMPLES, deadline=None)
@@ -92,7 +92,7 @@ def peak(curve: camcore.Curve, row: int) -> float:
 
 
 def one_sided(curve: camcore.Curve, t: float, piece: int, order: int = 3) -> np.ndarray:
-    vals = curve._eval_pieces(np.array([t]), np.array([piece], dtype=np.intp), order)
+    vals = curve.eval_pieces(np.array([t]), np.array([piece], dtype=np.intp), order)
     return np.array([float(v[0]) for v in vals])
 
 
@@ -263,7 +263,7 @@ def test_makino_curve_4_properties(params: tuple[float, float]) -> None:
     curve = camcore.makino_curve(4, t1=t1, t3=t3)
     expected = (0.0, t1, t1, t3, 1.0 - t3, 1.0 - t1, 1.0 - t1, 1.0)
     # sections shorter than MIN_SECTION (T3 − T1 of a few ulps) are merged into their start
-    assert np.allclose(curve.t, expected, rtol=0, atol=camcore.universal.MIN_SECTION)
+    assert np.allclose(curve.t, expected, rtol=0, atol=camcore.curves.universal.MIN_SECTION)
     # symmetric break points: equal areas need Amm = Amp (m = 1)
     assert curve.amm == pytest.approx(curve.amp, rel=1e-9)
     check_all(curve)
@@ -278,7 +278,7 @@ def test_makino_curve_4_properties(params: tuple[float, float]) -> None:
 @pytest.mark.parametrize("t1", [1e-160, 2.2250738585072014e-308, 1e-10])
 def test_universal_curve_with_a_vanishing_section_merges_it(t1: float) -> None:
     # found by fuzzing: a quarter-wave section of ~1e-154 made ω² overflow (a 500). A section
-    # shorter than camcore.universal.MIN_SECTION of the stroke is rounding noise and is merged
+    # shorter than camcore.curves.universal.MIN_SECTION of the stroke is rounding noise and is merged
     # away: the curve is the one without it (modified sine here), to rounding.
     curve = camcore.universal_curve((0.0, t1, t1, 0.5, 0.5, 0.875, 0.875, 1.0))
     assert curve.t[:3] == (0.0, 0.0, 0.0)

@@ -13,7 +13,7 @@ import pytest
 
 from camcore import InvalidParameterError, StrokeRangeError, named_curve
 from camcore.indexer import G, Indexer, Load, LoadPart, accuracy_mm, size
-from camcore.transform import ReturnCurve
+from camcore.curves.reverse import ReturnCurve
 
 MS = named_curve("MS")
 

@@ -114,7 +114,7 @@ def test_inverse_of_return_stroke(name: str) -> None:
 def test_inverse_does_not_depend_on_the_order_of_the_targets(name: str, curve: camcore.Curve) -> None:
     """Targets are solved in blocks, grouped by piece: any order gives the same T, bit for bit."""
     lo, hi = sorted((curve.s_start, curve.s_end))
-    s = np.linspace(lo, hi, 30001)  # several blocks of camcore.inverse.BLOCK, both end cells
+    s = np.linspace(lo, hi, 30001)  # several blocks of camcore.curves.inverse.BLOCK, both end cells
     order = np.random.default_rng(11).permutation(s.size)
     assert np.array_equal(curve.inverse(s)[order], curve.inverse(s[order]))
 
@@ -123,7 +123,7 @@ def test_inverse_does_not_depend_on_the_order_of_the_targets(name: str, curve: c
 def test_inverse_in_the_dwell_end_cells(name: str) -> None:
     """Near T0 and T7 (V → 0, S − S_end ∝ τ^k) the inverse still reaches δS/|V|.
 
-    camcore.inverse iterates on (S − S_end)^(1/k) in the first and last of its 8192
+    camcore.curves.inverse iterates on (S − S_end)^(1/k) in the first and last of its 8192
     cells; this holds it to the same conditioning bound as everywhere else.
     """
     curve = camcore.named_curve(name)

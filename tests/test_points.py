@@ -15,7 +15,7 @@ import pytest
 
 import camcore
 from camcore.errors import DegenerateCurveError, LimitExceededError, NonMonotoneError
-from camcore.spline import PointsCurve, c2_spline_slopes, hermite_piece_is_monotone
+from camcore.curves.points import PointsCurve, c2_spline_slopes, hermite_piece_is_monotone
 
 EPS = np.finfo(float).eps
 
@@ -23,8 +23,8 @@ EPS = np.finfo(float).eps
 def one_sided(curve: PointsCurve, knot: int, order: int) -> tuple[np.ndarray, np.ndarray]:
     """[S, V, A, J] at an interior knot from the piece on its left and on its right."""
     at = np.array([curve.knots_t[knot]])
-    left = curve._eval_pieces(at, np.array([knot - 1]), order)
-    right = curve._eval_pieces(at, np.array([knot]), order)
+    left = curve.eval_pieces(at, np.array([knot - 1]), order)
+    right = curve.eval_pieces(at, np.array([knot]), order)
     return np.array([x[0] for x in left]), np.array([x[0] for x in right])
 
 
@@ -41,7 +41,7 @@ def test_interpolates_the_data_exactly() -> None:
     assert np.max(np.abs(dim["theta"] - SMOOTH_T)) <= 4 * EPS * SMOOTH_T.max()
     assert np.max(np.abs(dim["h"] - SMOOTH_S)) <= 4 * EPS * np.abs(SMOOTH_S).max()
     assert curve.scale.units == {"theta": "deg", "h": "mm"}
-    s_right_ends = curve._eval_pieces(curve.knots_t[1:], np.arange(len(SMOOTH_T) - 1), 0)[0]
+    s_right_ends = curve.eval_pieces(curve.knots_t[1:], np.arange(len(SMOOTH_T) - 1), 0)[0]
     assert np.max(np.abs(s_right_ends - curve.knots_s[1:])) <= 4 * EPS
 
 

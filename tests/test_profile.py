@@ -374,9 +374,9 @@ class PeriodicCurve(camcore.Curve):
     def __init__(self):
         self.piece_starts = np.array([0.0])
         self.t_end = 1.0
-        self.scale = camcore.curve.Scale(theta_start=30.0, theta_span=180.0, h_min=2.0, h_span=8.0)
+        self.scale = camcore.curves.base.Scale(theta_start=30.0, theta_span=180.0, h_min=2.0, h_span=8.0)
 
-    def _eval_pieces(self, t, piece, order):
+    def eval_pieces(self, t, piece, order):
         w = 2 * math.pi
         out = [(1 - np.cos(w * t)) / 2, w * np.sin(w * t) / 2, w * w * np.cos(w * t) / 2,
                -(w**3) * np.sin(w * t) / 2, -(w**4) * np.cos(w * t) / 2]

@@ -1,4 +1,4 @@
-"""The root refinement behind characteristic values and torque peaks (camcore.curve._refine_roots).
+"""The root refinement behind characteristic values and torque peaks (camcore._solvers.illinois_roots).
 
 Known roots, found to within 4 ulp, in far fewer evaluations than bisection's ~45 from a
 1/256-wide bracket (the bracket width Curve.critical_points starts from).
@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from camcore.curve import _refine_roots
+from camcore._solvers import illinois_roots as _refine_roots
 
 
 def _solve(f, lo: list[float], hi: list[float]) -> tuple[np.ndarray, np.ndarray, int]:

@@ -1,6 +1,6 @@
 """The sine-family evaluation: sin/cos through tan(θ/2), and the two evaluation paths.
 
-``camcore.sections`` computes sin θ = 2q, cos θ = 1 − 2r and 1 − cos θ = 2r from one vectorised tan(θ/2)
+``camcore.curves.sections`` computes sin θ = 2q, cos θ = 1 − 2r and 1 − cos θ = 2r from one vectorised tan(θ/2)
 (numpy's float64 tan is SIMD, its sin and cos are not). These tests hold those identities
 to a 60-digit mpmath reference, and hold the sorted-table path (per-section slices, one
 workspace) to the any-order path (coefficients gathered per point): same numbers.
@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import camcore
-from camcore.catalog import CATALOG
-from camcore.sections import SectionCurve, half_angle_bases
+from camcore.curves.catalog import CATALOG
+from camcore.curves.sections import SectionCurve, half_angle_bases
 
 EPS = float(np.finfo(np.float64).eps)
 
@@ -71,16 +71,16 @@ def test_section_curves_use_the_sliced_path_for_tables() -> None:
     curve = camcore.named_curve("MS")
     assert isinstance(curve, SectionCurve)
     calls: list[int] = []
-    original = curve._eval_piece
+    original = curve.eval_piece
 
     def spy(t, k, order, out, work=None):  # type: ignore[no-untyped-def]
         calls.append(k)
         original(t, k, order, out, work)
 
-    curve._eval_piece = spy  # type: ignore[method-assign]
+    curve.eval_piece = spy  # type: ignore[method-assign]
     try:
         curve.derivatives(np.linspace(0.0, 1.0, 50_000), 3)
     finally:
-        del curve._eval_piece
-    # 4 sections, the middle ones spanning more than one block of camcore.curve._BLOCK
+        del curve.eval_piece
+    # 4 sections, the middle ones spanning more than one block of camcore.curves.base._BLOCK
     assert sorted(set(calls)) == [0, 1, 2, 3] and len(calls) > 4

@@ -13,7 +13,7 @@ safeguarded Newton iteration on the closed form. What makes it fast:
   start comes from a second table, evenly spaced in z = (S − S_end)^(1/k), in which T is
   smooth (:class:`EndTable`);
 * targets go through that first step in blocks (temporaries stay in cache), evaluating the
-  curve piece by piece with scalar coefficients (:meth:`Curve._eval_grouped`); the few
+  curve piece by piece with scalar coefficients (:meth:`PiecewiseCurve.eval_grouped`); the few
   left over (break points inside a cell, S at its rounding noise) iterate together
   afterwards, with Newton on (S − S_end)^(1/k) in the end cells.
 
@@ -25,15 +25,13 @@ Measured (bench/README.md): 1e6 targets in about 3 times a forward table of 1e6 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
-from .curve import WORK_ROWS
-
-if TYPE_CHECKING:
-    from .curve import Curve, FloatArray
+from .base import WORK_ROWS, FloatArray, PiecewiseCurve
+from .extrema import Characteristics
+from .stroke import clamp_to_stroke, robust_inverse
 
 #: S levels of the start table (8 + 16 + 4 bytes a level: 115 kB cached per curve)
 CELLS = 4096
@@ -94,12 +92,13 @@ def dwell_order(values: list[float], peaks: list[float]) -> int:
     return len(values)
 
 
-def build_grid(curve: Curve, direction: int) -> InverseGrid:
+def build_grid(curve: PiecewiseCurve, ch: Characteristics, direction: int) -> InverseGrid:
+    """The start table of a curve's inverse (built once per curve, then cached by it)."""
     i = np.arange(CELLS + 1)
     s_start, s_end = curve.s_start, curve.s_end
     levels = s_start + (s_end - s_start) * (i / CELLS)
     levels[-1] = s_end
-    t_levels = curve._inverse_bracketed(levels, direction)
+    t_levels = robust_inverse(curve, levels, direction)
     t_levels[0], t_levels[-1] = curve.t_start, curve.t_end
     v_levels = curve.derivatives(t_levels, 1)[1]
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -109,7 +108,6 @@ def build_grid(curve: Curve, direction: int) -> InverseGrid:
     first = np.clip(first, 0, curve.n_pieces - 1)
     last = np.clip(last, 0, curve.n_pieces - 1)
     cell_piece = np.where(first == last, first, -1).astype(np.int32)
-    ch = curve.characteristics
     peaks = [ch.vm.value, ch.am, max(ch.jm_pos.value, -ch.jm_neg.value), 0.0]
     at_start = [float(d[0]) for d in curve.derivatives(np.array([curve.t_start]), 4)[1:]]
     # T7 belongs to the last piece: its left limit, the end of the motion
@@ -133,12 +131,12 @@ def _hermite(t: FloatArray, step_lo: FloatArray, step_hi: FloatArray) -> FloatAr
     return np.where(smooth, [step_lo - width, step_hi - width], 0.0)
 
 
-def _end_table(curve: Curve, direction: int, k: int, at_t7: bool) -> EndTable:
+def _end_table(curve: PiecewiseCurve, direction: int, k: int, at_t7: bool) -> EndTable:
     z = np.arange(END_LEVELS + 1) / END_LEVELS
     reach = END_CELLS / CELLS * z**k  # distance from the end, as a fraction of the stroke
     span = curve.s_end - curve.s_start
     levels = curve.s_end - span * reach if at_t7 else curve.s_start + span * reach
-    t = curve._inverse_bracketed(levels, direction)
+    t = robust_inverse(curve, levels, direction)
     t[0] = curve.t_end if at_t7 else curve.t_start
     v = curve.derivatives(t, 1)[1]
     # dT/dz = (dS/dz) / V, dS/dz = ±span·(END_CELLS/CELLS)·k·z^(k−1): times the step 1/END_LEVELS
@@ -149,7 +147,7 @@ def _end_table(curve: Curve, direction: int, k: int, at_t7: bool) -> EndTable:
     return EndTable(k, t, hermite)
 
 
-def solve(curve: Curve, grid: InverseGrid, target: FloatArray) -> FloatArray:
+def solve(curve: PiecewiseCurve, grid: InverseGrid, target: FloatArray) -> FloatArray:
     """T for each target (flat, validated: on the stroke within rounding).
 
     A first pass takes every target through one Newton step, block by block; most are
@@ -161,7 +159,7 @@ def solve(curve: Curve, grid: InverseGrid, target: FloatArray) -> FloatArray:
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         for lo in range(0, target.size, BLOCK):
             hi = min(lo + BLOCK, target.size)
-            first = _Targets.start(curve, grid, curve._clamp_to_stroke(target[lo:hi]), lo)
+            first = _Targets.start(curve, grid, clamp_to_stroke(curve, target[lo:hi]), lo)
             rest = _first_step(curve, grid, first, result)
             if rest is not None:
                 pending.append(rest)
@@ -241,7 +239,7 @@ class _Targets:
         return int(self.t.size)
 
     @classmethod
-    def start(cls, curve: Curve, grid: InverseGrid, target: FloatArray, offset: int) -> _Targets:
+    def start(cls, curve: PiecewiseCurve, grid: InverseGrid, target: FloatArray, offset: int) -> _Targets:
         t, low, high, cell = _start(grid, target)
         goal = target * grid.direction if grid.direction < 0 else target
         table_start, table_end = grid.end_tables
@@ -287,7 +285,7 @@ class _Targets:
                         cat("side", 0.0), cat("power", 1.0), cat("base", 0.0), cat("reach", 0.0))
 
 
-def _first_step(curve: Curve, grid: InverseGrid, x: _Targets, result: FloatArray) -> _Targets | None:
+def _first_step(curve: PiecewiseCurve, grid: InverseGrid, x: _Targets, result: FloatArray) -> _Targets | None:
     """One Newton step for a fresh block, with only the test that finishes most targets.
 
     A step that stays inside the cell and whose predicted error |A/2V|·δ² is below an ulp
@@ -300,7 +298,7 @@ def _first_step(curve: Curve, grid: InverseGrid, x: _Targets, result: FloatArray
     if mixed.any():
         pe = pe.copy()
         pe[mixed] = np.clip(curve.piece_index(x.t[mixed]), 0, curve.n_pieces - 1)
-    s_now, v_now, a_now = curve._eval_grouped(x.t, pe, 2)
+    s_now, v_now, a_now = curve.eval_grouped(x.t, pe, 2)
     if grid.direction < 0:
         s_now, v_now, a_now = -s_now, -v_now, -a_now
     step = s_now - x.goal
@@ -318,7 +316,7 @@ def _first_step(curve: Curve, grid: InverseGrid, x: _Targets, result: FloatArray
     return x.take(rest) if rest.size else None
 
 
-def _iterate(curve: Curve, grid: InverseGrid, x: _Targets, result: FloatArray, iterations: int) -> _Targets:
+def _iterate(curve: PiecewiseCurve, grid: InverseGrid, x: _Targets, result: FloatArray, iterations: int) -> _Targets:
     """Up to ``iterations`` safeguarded Newton steps; answers go into ``result`` as they come.
 
     Returns the targets not yet final (call under np.errstate: inf/nan steps are expected).
@@ -335,7 +333,7 @@ def _iterate(curve: Curve, grid: InverseGrid, x: _Targets, result: FloatArray, i
         if mixed.any():
             pe = pe.copy()
             pe[mixed] = np.clip(curve.piece_index(x.t[mixed]), 0, curve.n_pieces - 1)
-        s_now, v_now, a_now = curve._eval_grouped(x.t, pe, 2, work)
+        s_now, v_now, a_now = curve.eval_grouped(x.t, pe, 2, work)
         if direction < 0:
             s_now, v_now, a_now = -s_now, -v_now, -a_now
         f = s_now - x.goal

@@ -19,8 +19,9 @@ import numpy as np
 from numpy.polynomial import Polynomial
 from numpy.typing import NDArray
 
-from .curve import Curve, FloatArray
-from .errors import InvalidParameterError
+from .base import FloatArray
+from .curve import Curve
+from ..errors import InvalidParameterError
 
 NAMED_POLYNOMIALS: dict[str, tuple[float, ...]] = {
     "constant-velocity": (0.0, 1.0),
@@ -51,7 +52,7 @@ class PolynomialCurve(Curve):
         self.piece_starts = np.array([0.0])
         self.t_end = 1.0
 
-    def _eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
+    def eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
         return [np.asarray(self._polys[k](t), dtype=np.float64) for k in range(order + 1)]
 
 

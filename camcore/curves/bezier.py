@@ -35,8 +35,10 @@ import numpy as np
 from numpy.polynomial import Chebyshev
 from numpy.typing import ArrayLike, NDArray
 
-from .curve import Curve, FloatArray, Scale
-from .errors import DegenerateCurveError, LimitExceededError
+from .base import FloatArray, Scale
+from .curve import Curve
+from .._solvers import bracketed_newton
+from ..errors import DegenerateCurveError, LimitExceededError
 
 #: largest Bezier degree accepted by default: de Casteljau costs O(n²) per point and
 #: a user-drawn lift needs far fewer control points than this.
@@ -54,9 +56,6 @@ _GUARD_SAMPLES = 1025
 
 #: parameter values evaluated per block by de Casteljau's algorithm.
 _CHUNK = 2048
-
-#: Newton on θ(s) = T stops when the step or the bracket is this small [-].
-_S_TOL = 4.0 * np.finfo(float).eps
 
 #: samples of θ(s) used to bracket s for a given T before Newton's iteration.
 _INVERSE_TABLE = 257
@@ -367,26 +366,13 @@ class BezierCurve(Curve):
         lo, hi = table_s[k - 1].copy(), table_s[k].copy()
         frac = (target - table_t[k - 1]) / (table_t[k] - table_t[k - 1])
         s = lo + (hi - lo) * np.clip(frac, 0.0, 1.0)
-        active = np.ones(target.shape, dtype=bool)
-        for _ in range(100):
-            if not active.any():
-                break
-            ia = np.nonzero(active)[0]
-            sa = s[ia]
-            theta, slope = bernstein_derivatives(self._x_coef, sa, 1)
-            f = theta - target[ia]
-            lo[ia] = np.where(f < 0, sa, lo[ia])
-            hi[ia] = np.where(f > 0, sa, hi[ia])
-            newton = sa - f / slope
-            inside = (newton >= lo[ia]) & (newton <= hi[ia])
-            s_new = np.where(inside, newton, 0.5 * (lo[ia] + hi[ia]))
-            # θ is known only to its rounding error, so a residual that small is exact;
-            # steps are measured against the spacing of floats near 1 (s ∈ [0, 1])
-            # because rounding of θ keeps a small s from settling any closer.
-            converged = np.abs(f) <= self._theta_noise
-            done = converged | (np.abs(s_new - sa) <= _S_TOL) | (hi[ia] - lo[ia] <= _S_TOL)
-            s[ia] = np.where(f == 0, sa, s_new)
-            active[ia[done]] = False
+
+        def theta_and_slope(x: FloatArray) -> tuple[FloatArray, FloatArray]:
+            theta, slope = bernstein_derivatives(self._x_coef, x, 1)
+            return theta, slope
+
+        # θ is known only to its rounding error, so a residual that small is exact
+        s = bracketed_newton(theta_and_slope, target, s, lo, hi, noise=self._theta_noise)
         # the ends map exactly: θ(0) = θ0 and θ(1) = θn
         s = np.where(target == 0.0, 0.0, np.where(target == 1.0, 1.0, s))
         return s.reshape(t_arr.shape)
@@ -402,7 +388,7 @@ class BezierCurve(Curve):
         y = [d[1].reshape(s_arr.shape) for d in both]
         return [x[0], y[0]] + (_faa_di_bruno(x, y, order) if order >= 1 else [])
 
-    def _eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
+    def eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
         return self.at_parameter(self.parameter_at(t), order)[1:]
 
     def dimensional(self, t: ArrayLike) -> dict[str, FloatArray]:

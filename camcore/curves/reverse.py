@@ -11,7 +11,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from .curve import Curve, FloatArray
+from .base import FloatArray
+from .curve import Curve
 
 
 class ReturnCurve(Curve):
@@ -35,6 +36,6 @@ class ReturnCurve(Curve):
         self.t_end = float(ends[-1])
         self.scale = getattr(rise, "scale", None)
 
-    def _eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
-        vals = self.rise._eval_pieces(self._mirror - t, self.rise.n_pieces - 1 - piece, order)
+    def eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
+        vals = self.rise.eval_pieces(self._mirror - t, self.rise.n_pieces - 1 - piece, order)
         return [v if i % 2 == 0 else -v for i, v in enumerate(vals)]

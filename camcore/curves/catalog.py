@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 
 from .curve import Curve
-from .errors import UnknownCurveError
+from ..errors import UnknownCurveError
 from .polynomial import NAMED_POLYNOMIALS, PolynomialCurve
 from .universal import MAKINO_BREAK_POINTS, makino_curve, modified_constant_velocity, trapecloid_2
 

@@ -36,8 +36,9 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .curve import Curve, FloatArray, Scale
-from .errors import DegenerateCurveError, LimitExceededError
+from .base import FloatArray, Scale
+from .curve import Curve
+from ..errors import DegenerateCurveError, LimitExceededError
 
 #: limited slopes are kept this far inside Fritsch–Carlson's bound m/δ ≤ 3, so that the
 #: ratio recomputed in floating point cannot land a rounding error above 3.
@@ -348,7 +349,7 @@ class PointsCurve(Curve):
         self._c2 = (3.0 * delta - 2.0 * m_left - m_right) / h
         self._c3 = (m_left + m_right - 2.0 * delta) / h**2
 
-    def _eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
+    def eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
         tau = t - self.knots_t[piece]
         m = self.knot_slopes[piece]
         c2 = self._c2[piece]

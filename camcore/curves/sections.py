@@ -9,8 +9,8 @@ Every curve of the sine family (Makino's universal curve and all its special cas
 the INDEXMAN MS/MCV/MT/TR curves, cycloid, simple harmonic, constant acceleration)
 is a list of such sections. Evaluation is vectorised over T: for sorted T (every table)
 each section evaluates its contiguous slice with its own scalar coefficients
-(:meth:`SectionCurve._eval_piece`); otherwise a section index per T, then one pass of
-array arithmetic with the section's coefficients gathered (:meth:`SectionCurve._eval_pieces`).
+(:meth:`SectionCurve.eval_piece`); otherwise a section index per T, then one pass of
+array arithmetic with the section's coefficients gathered (:meth:`SectionCurve.eval_pieces`).
 Both give the same numbers.
 
 References
@@ -26,7 +26,8 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from .curve import WORK_ROWS, Curve, FloatArray
+from .base import WORK_ROWS, FloatArray
+from .curve import Curve
 
 
 class _Coef(NamedTuple):
@@ -212,7 +213,7 @@ class SectionCurve(Curve):
             row["s_k"] = row["v"] + row["b_w"]  # as the gathered v + α/2·τ + β/ω reads at α = 0
             self._rows.append(_Coef(**row))
 
-    def _eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
+    def eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
         # one gather for all coefficients: row i of the result is coefficient i per point
         c = dict(zip(self._coef, np.take(self._coef_matrix, piece, axis=1)))
         tau = t - c["start"]
@@ -241,11 +242,11 @@ class SectionCurve(Curve):
             self._plans[(k, order)] = plan
         return plan
 
-    def _eval_piece(self, t: FloatArray, k: int, order: int, out: list[FloatArray],
+    def eval_piece(self, t: FloatArray, k: int, order: int, out: list[FloatArray],
                     work: FloatArray | None = None) -> None:
         """[S, V, A, J, dJ/dT][: order + 1] of section k at sorted t (all in it) into ``out``.
 
-        The formulas of :meth:`_eval_pieces` with this section's scalar coefficients, the
+        The formulas of :meth:`eval_pieces` with this section's scalar coefficients, the
         same operations in the same order (so the same numbers), but no gathers, no work
         for terms whose coefficient is zero (a quarter-sine section has only one of β, γ;
         most have α = 0), and every temporary in ``work`` (``WORK_ROWS`` rows at least

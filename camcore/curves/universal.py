@@ -24,9 +24,11 @@ appendix 1 (subroutine CURVE), table 2.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 
-from .errors import InvalidBreakPointsError, InvalidParameterError, StrokeClosureError
+from .._checks import finite
+from ..errors import InvalidBreakPointsError, InvalidParameterError, StrokeClosureError
 from .sections import Section, SectionCurve
 
 PI = math.pi
@@ -34,13 +36,6 @@ PI = math.pi
 #: shortest non-empty section, as a fraction of T7 − T0 (shorter ones are merged away):
 #: the jerk ~ A/length of a section stays finite
 MIN_SECTION = 1e-9
-
-
-def _check_finite(name: str, value: float) -> float:
-    value = float(value)
-    if not math.isfinite(value):
-        raise InvalidParameterError(f"{name} must be a finite number, not {value!r}.")
-    return value
 
 
 def check_break_points(t: Sequence[float]) -> tuple[float, ...]:
@@ -153,7 +148,7 @@ class UniversalCurve(SectionCurve):
 
     @property
     def v7(self) -> float:
-        return self._ends[1][1]
+        return self.v_end
 
 
 def universal_curve(
@@ -188,16 +183,16 @@ def universal_curve(
         No amplitude reaches S7 (and V7) with these break points.
     """
     pts = check_break_points(t)
-    v0 = _check_finite("V0", v0)
-    s0 = _check_finite("S0", s0)
-    s7 = _check_finite("S7", s7)
+    v0 = finite("V0", v0)
+    s0 = finite("S0", s0)
+    s7 = finite("S7", s7)
     p, n, cp, cn = _stroke_per_amplitude(pts)
     rise = s7 - s0 - v0 * (pts[7] - pts[0])
     scale = max(abs(p), abs(n), abs(cp), abs(cn), 1e-300)
     if m is not None:
         if v7 is not None:
             raise InvalidParameterError("give either m or V7, not both: with m fixed, V7 is a result.")
-        m = _check_finite("m", m)
+        m = finite("m", m)
         denominator = p - m * n
         if abs(denominator) <= 1e-12 * scale:
             raise StrokeClosureError(
@@ -206,7 +201,7 @@ def universal_curve(
             )
         amp = rise / denominator
         return UniversalCurve(pts, amp, m * amp, v0=v0, s0=s0)
-    v7 = v0 if v7 is None else _check_finite("V7", v7)
+    v7 = v0 if v7 is None else finite("V7", v7)
     dv = v7 - v0
     det = -p * cn + n * cp
     if abs(det) <= 1e-12 * scale * scale:
@@ -236,7 +231,7 @@ def rapid_feed(z: float) -> UniversalCurve:
     z : float
         Deceleration period over acceleration period, 0 < z ≤ 1 [-].
     """
-    z = _check_finite("z", z)
+    z = finite("z", z)
     if not 0 < z <= 1:
         raise InvalidParameterError(f"z must satisfy 0 < z ≤ 1 (the feed decelerates to (1 − z)·Vm), got {z!r}.")
     t3 = 1.0 / (1.0 + z)
@@ -256,7 +251,7 @@ def cutting_feed(t4: float) -> UniversalCurve:
     t4 : float
         End of the constant-velocity stretch, 0 ≤ T4 < 1 [-].
     """
-    t4 = _check_finite("T4", t4)
+    t4 = finite("T4", t4)
     if not 0 <= t4 < 1:
         raise InvalidParameterError(f"T4 must satisfy 0 ≤ T4 < 1, got {t4!r}.")
     amm = PI / (4.0 * (1.0 - t4) ** 2 / PI + 2.0 * (1.0 - t4) * t4)
@@ -277,8 +272,8 @@ def modified_constant_velocity(t1: float, t3: float) -> UniversalCurve:
     t3 : float
         Start of the constant velocity, T3 ≤ 0.5 [-].
     """
-    t1 = _check_finite("T1", t1)
-    t3 = _check_finite("T3", t3)
+    t1 = finite("T1", t1)
+    t3 = finite("T3", t3)
     if not 0 < t1 <= t3 <= 0.5:
         raise InvalidParameterError(f"curve 4 needs 0 < T1 ≤ T3 ≤ 0.5, got T1 = {t1!r}, T3 = {t3!r}.")
     return universal_curve((0.0, t1, t1, t3, 1.0 - t3, 1.0 - t1, 1.0 - t1, 1.0))
@@ -350,34 +345,69 @@ MAKINO_BREAK_POINTS: dict[int, tuple[tuple[float, ...], float | None]] = {
 }
 
 
-def makino_curve(number: int, **params: float) -> UniversalCurve:
+@dataclass(frozen=True)
+class MakinoSpecial:
+    """One of Makino's special (parametric) curves: its parameters and its builder."""
+
+    number: int
+    name: str
+    parameters: tuple[str, ...]
+    optional: tuple[str, ...]
+    build: Callable[..., UniversalCurve]
+    rule: str
+
+
+def _trapecloid_2(t1: float | None = None) -> UniversalCurve:
+    return trapecloid_2(0.125 if t1 is None else _check_t1_36(t1))
+
+
+#: Makino's special curves by number (1977, §5.1-5.3, eq. 13): the one place that
+#: knows their parameters, used by :func:`makino_curve` and by the service's spec.
+MAKINO_SPECIAL: dict[int, MakinoSpecial] = {
+    1: MakinoSpecial(1, "rapid feed", ("z",), (), rapid_feed, "0 < z ≤ 1"),
+    2: MakinoSpecial(2, "cutting feed", ("t4",), (), cutting_feed, "0 ≤ T4 < 1"),
+    4: MakinoSpecial(4, "non-standard modified constant velocity", ("t1", "t3"), (), modified_constant_velocity,
+                     "0 < T1 ≤ T3 ≤ 0.5"),
+    36: MakinoSpecial(36, "trapecloid II", (), ("t1",), _trapecloid_2, "optional T1, default 1/8"),
+}
+
+
+def makino_curve(number: int, **params: float | None) -> UniversalCurve:
     """Makino's curve by its classification number (table 2 and special curves).
 
-    Special curves take their parameters: 1 (``z``), 2 (``t4``), 4 (``t1``, ``t3``),
-    36 (``t1``, default 1/8). Table-2 curves take none.
+    Parameters
+    ----------
+    number : int
+        Makino's classification number: a table-2 curve (no parameters) or a special
+        curve of :data:`MAKINO_SPECIAL`: 1 (``z``), 2 (``t4``), 4 (``t1``, ``t3``),
+        36 (``t1``, default 1/8).
+    **params : float or None
+        The special curve's parameters; None means not given.
+
+    Returns
+    -------
+    UniversalCurve
+
+    References
+    ----------
+    Makino (1977), table 2, eqs. (13)-(16), subroutine CURVE.
     """
-    allowed: dict[int, set[str]] = {1: {"z"}, 2: {"t4"}, 4: {"t1", "t3"}, 36: {"t1"}}
+    special = MAKINO_SPECIAL.get(number)
+    allowed = set(special.parameters + special.optional) if special else set()
     given = {k for k, v in params.items() if v is not None}
-    extra = given - allowed.get(number, set())
+    extra = given - allowed
     if extra:
         raise InvalidParameterError(
             f"Makino curve {number} takes no parameter {', '.join(sorted(extra))}"
-            + (f"; it takes {', '.join(sorted(allowed[number]))}." if number in allowed else ".")
+            + (f"; it takes {', '.join(sorted(allowed))}." if allowed else ".")
         )
-    missing = allowed.get(number, set()) - given - ({"t1"} if number == 36 else set())
-    if missing:
-        raise InvalidParameterError(f"Makino curve {number} needs {', '.join(sorted(missing))}.")
-    if number == 1:
-        return rapid_feed(params["z"])
-    if number == 2:
-        return cutting_feed(params["t4"])
-    if number == 4:
-        return modified_constant_velocity(params["t1"], params["t3"])
-    if number == 36:
-        t1 = params.get("t1")
-        return trapecloid_2(0.125 if t1 is None else _check_t1_36(t1))
+    if special is not None:
+        missing = set(special.parameters) - given
+        if missing:
+            raise InvalidParameterError(f"Makino curve {number} needs {', '.join(sorted(missing))}.")
+        return special.build(**{k: params[k] for k in given})
     if number not in MAKINO_BREAK_POINTS:
-        known = sorted([1, 2, 4, 36, *MAKINO_BREAK_POINTS])
+        known = sorted([*MAKINO_SPECIAL, *MAKINO_BREAK_POINTS])
         raise InvalidParameterError(
             f"Makino curve number {number} is not one of {', '.join(map(str, known))}."
         )
@@ -386,7 +416,7 @@ def makino_curve(number: int, **params: float) -> UniversalCurve:
 
 
 def _check_t1_36(t1: float) -> float:
-    t1 = _check_finite("T1", t1)
+    t1 = finite("T1", t1)
     t2 = (2 - 6 * t1 + PI * t1) / (2 + PI)
     if not (0 < t1 and t2 >= t1 and t2 + t1 <= 1 - t1):
         raise InvalidParameterError(f"trapecloid II needs 0 < T1 ≤ 0.27 or so (T1 ≤ T2, T3 ≤ 1 − T1), got T1 = {t1!r}.")

@@ -1,0 +1,160 @@
+"""Characteristic values of a curve from its closed form (section-wise extrema).
+
+The candidates for an extreme of any function of the motion are each piece's two ends
+(one-sided limits) and every interior root of the function's derivative, bracketed on a
+grid of all pieces at once and refined to machine precision (:func:`illinois_roots`).
+
+References
+----------
+.. [1] Makino (1977), characteristic values Vm, Am, Jm, Qm (AV) of the universal curve.
+.. [2] INDEXMAN technical guide, section 5, characteristic table (Q = A·V/Am).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .._solvers import illinois_roots
+from ..results import Extremum, describe
+from .base import FloatArray, PiecewiseCurve
+
+#: samples per piece used to bracket the roots of a derivative before refining them;
+#: every piece of every curve we build has at most a few extrema, far fewer than this.
+_BRACKET_SAMPLES = 257
+
+
+@dataclass(frozen=True)
+class Characteristics:
+    """Characteristic values of a curve over [T0, T7], from its closed form.
+
+    ``vm`` is the largest |V|; ``am`` the largest |A| (the Am that normalises Q), also
+    given with where it occurs as ``am_abs``. Negative extremes (``am_neg``, ``jm_neg``,
+    ``qm_neg``) are signed (≤ 0 for the standard curves), as Makino's AJKMM and QMM are.
+    """
+
+    vm: Extremum = describe("largest |V|")
+    am: float = describe("largest |A|, the Am that normalises Q")
+    am_pos: Extremum = describe("largest A")
+    am_neg: Extremum = describe("smallest A (signed)")
+    jm_pos: Extremum = describe("largest J")
+    jm_neg: Extremum = describe("smallest J (signed)")
+    qm_pos: Extremum = describe("largest Q = A·V/Am (indexer catalog)")
+    qm_neg: Extremum = describe("smallest Q = A·V/Am (signed)")
+    qm_raw_pos: Extremum = describe("largest A·V (Makino's QMP)")
+    qm_raw_neg: Extremum = describe("smallest A·V (Makino's QMM)")
+    v_max: Extremum = describe("largest V")
+    v_min: Extremum = describe("smallest V")
+    s_max: Extremum = describe("largest S")
+    s_min: Extremum = describe("smallest S")
+
+
+def critical_points(curve: PiecewiseCurve, slopes: Callable[[list[FloatArray]], FloatArray]
+                    ) -> tuple[FloatArray, NDArray[np.intp]]:
+    """Times, with their pieces, where functions of the motion may peak over [T0, T7].
+
+    Parameters
+    ----------
+    curve : PiecewiseCurve
+    slopes : callable
+        Maps [S, V, A, J, dJ/dT] at some times to the rows (one per function) of the
+        functions' derivatives with respect to T.
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        Candidate times and their pieces: each piece's two ends (one-sided limits) and
+        every interior root of every row, bracketed on a grid of all pieces at once and
+        refined by the Illinois method to machine precision. Evaluating a function at these
+        times with the returned pieces gives its exact extremes.
+    """
+    starts = curve.piece_starts
+    ends = np.append(starts[1:], curve.t_end)
+    n = curve.n_pieces
+    # fewer grid points per piece when there are many small pieces (splines of many
+    # points: cubic pieces whose derivatives have at most a few roots)
+    per_piece = int(np.clip(2**18 // max(n, 1), 17, _BRACKET_SAMPLES))
+    frac = np.linspace(0.0, 1.0, per_piece)
+    grid = starts[:, None] + (ends - starts)[:, None] * frac[None, :]
+    kk = np.repeat(np.arange(n, dtype=np.intp), per_piece)
+
+    def rows(t: FloatArray, piece: NDArray[np.intp]) -> FloatArray:
+        return np.atleast_2d(np.asarray(slopes(curve.eval_pieces(t, piece, 4)), dtype=np.float64))
+
+    derivs = rows(grid.reshape(-1), kk)
+    derivs = derivs.reshape(derivs.shape[0], n, per_piece)
+    times = [starts, ends]
+    pieces = [np.arange(n, dtype=np.intp), np.arange(n, dtype=np.intp)]
+    for q, d in enumerate(derivs):
+        sign = np.sign(d)
+        k_idx, i_idx = np.nonzero(sign[:, :-1] * sign[:, 1:] < 0)
+        if k_idx.size:
+            lo, hi = grid[k_idx, i_idx].copy(), grid[k_idx, i_idx + 1].copy()
+            f_lo, f_hi = d[k_idx, i_idx].copy(), d[k_idx, i_idx + 1].copy()
+            illinois_roots(lambda t, k, row=q: rows(t, k)[row], lo, hi, f_lo, f_hi, k_idx)
+            times.append(0.5 * (lo + hi))
+            pieces.append(k_idx)
+        zk, zi = np.nonzero(d == 0.0)
+        if zk.size and zk.size < d.size:
+            times.append(grid[zk, zi])
+            pieces.append(zk)
+    return np.concatenate(times), np.concatenate(pieces)
+
+
+def peaks_of(curve: PiecewiseCurve, times: FloatArray, pieces: NDArray[np.intp], values: FloatArray
+             ) -> tuple[Extremum, Extremum]:
+    """(max, min) of sampled values at candidate times; ties go to the earliest T."""
+    order = np.argsort(times, kind="stable")
+    t_sorted, v_sorted = times[order], values[order]
+    i_max, i_min = int(np.argmax(v_sorted)), int(np.argmin(v_sorted))
+    return Extremum(float(v_sorted[i_max]), float(t_sorted[i_max])), Extremum(float(v_sorted[i_min]),
+                                                                              float(t_sorted[i_min]))
+
+
+def characteristics(curve: PiecewiseCurve) -> Characteristics:
+    """Exact characteristic values over [T0, T7] (section-wise extrema).
+
+    Parameters
+    ----------
+    curve : PiecewiseCurve
+
+    Returns
+    -------
+    Characteristics
+
+    References
+    ----------
+    Makino (1977), characteristic values; INDEXMAN technical guide, section 5
+    (characteristic table, Q = A·V/Am).
+    """
+    t_all, k_all = critical_points(
+        curve, lambda d: np.vstack([d[1], d[2], d[3], d[4], d[3] * d[1] + d[2] * d[2]])
+    )
+    s_, v, acc, j = curve.eval_pieces(t_all, k_all, 3)
+    s_max, s_min = peaks_of(curve, t_all, k_all, s_)
+    v_max, v_min = peaks_of(curve, t_all, k_all, v)
+    am_pos, am_neg = peaks_of(curve, t_all, k_all, acc)
+    jm_pos, jm_neg = peaks_of(curve, t_all, k_all, j)
+    q_pos, q_neg = peaks_of(curve, t_all, k_all, acc * v)
+    vm = v_max if abs(v_max.value) >= abs(v_min.value) else v_min
+    am = max(abs(am_pos.value), abs(am_neg.value))
+    scale = 1.0 / am if am > 0 else 0.0
+    return Characteristics(
+        vm=Extremum(abs(vm.value), vm.t),
+        am=am,
+        am_pos=am_pos,
+        am_neg=am_neg,
+        jm_pos=jm_pos,
+        jm_neg=jm_neg,
+        qm_pos=Extremum(q_pos.value * scale, q_pos.t),
+        qm_neg=Extremum(q_neg.value * scale, q_neg.t),
+        qm_raw_pos=q_pos,
+        qm_raw_neg=q_neg,
+        v_max=v_max,
+        v_min=v_min,
+        s_max=s_max,
+        s_min=s_min,
+    )

@@ -1,0 +1,121 @@
+"""The registry of curve kinds: how each kind of curve spec is built.
+
+A curve is given by its kind (``named``, ``makino``, ``universal``, ``polynomial``,
+``bezier``, ``points``) and that kind's parameters, plus a direction (``rise`` or
+``return``, Makino's INIT = 2). The service's specs carry exactly these names; it builds
+every curve through :func:`build_curve` and checks the size limits each kind declares.
+A new kind is one module with its law plus one entry here.
+
+References
+----------
+.. [1] Makino (1977), subroutine CURVE (INIT = 2: the symmetrical return stroke).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from ..errors import InvalidParameterError
+from .bezier import BezierCurve
+from .catalog import named_curve
+from .curve import Curve
+from .points import PointsCurve
+from .polynomial import NAMED_POLYNOMIALS, named_polynomial, polynomial_from_boundary
+from .reverse import ReturnCurve
+from .universal import makino_curve, universal_curve
+
+DIRECTIONS = ("rise", "return")
+
+
+@dataclass(frozen=True)
+class SizeLimit:
+    """A size a kind's spec may not exceed: its name in messages, the setting that holds
+    the limit, the builder's keyword that takes it, and how to read the size off the
+    parameters."""
+
+    what: str
+    setting: str
+    argument: str
+    size: Callable[[Mapping[str, Any]], int]
+
+
+@dataclass(frozen=True)
+class CurveKind:
+    """One kind of curve spec: its builder, the parameters it takes and its size limit."""
+
+    name: str
+    description: str
+    build: Callable[..., Curve]
+    parameters: tuple[str, ...]
+    limit: SizeLimit | None = None
+
+
+def _polynomial(name: str | None = None, start: Mapping[str, float | None] | None = None,
+                end: Mapping[str, float | None] | None = None) -> Curve:
+    if name is not None:
+        if start is not None or end is not None:
+            raise InvalidParameterError("give a polynomial name or boundary conditions, not both")
+        return named_polynomial(name)
+    if start is None or end is None:
+        raise InvalidParameterError("give a polynomial name, or both start and end boundary conditions")
+    return polynomial_from_boundary(start, end)
+
+
+CURVE_KINDS: dict[str, CurveKind] = {
+    kind.name: kind
+    for kind in (
+        CurveKind("named", "a catalog curve by id, alias or Makino number", named_curve, ("name",)),
+        CurveKind("makino", "Makino's curve by classification number, with its own parameters",
+                  makino_curve, ("number", "z", "t4", "t1", "t3")),
+        CurveKind("universal", "Makino's universal cam curve: break points and end conditions",
+                  universal_curve, ("t", "m", "v0", "v7", "s0", "s7")),
+        CurveKind("polynomial", "a polynomial law by name, or the least-degree one meeting end conditions",
+                  _polynomial, ("name", "start", "end")),
+        CurveKind("bezier", "lift over drive angle as a Bezier curve in the (θ, h) plane", BezierCurve,
+                  ("control_points",),
+                  SizeLimit("Bezier degree", "max_bezier_degree", "max_degree", lambda p: len(p["control_points"]) - 1)),
+        CurveKind("points", "a measured table (t, s), interpolated by a smooth spline", PointsCurve, ("t", "s", "v"),
+                  SizeLimit("number of points", "max_curve_points", "max_points", lambda p: len(p["t"]))),
+    )
+}
+
+#: the names a polynomial spec may give (the keys of the named polynomials)
+POLYNOMIAL_NAMES = tuple(NAMED_POLYNOMIALS)
+
+
+def build_curve(kind: str, parameters: Mapping[str, Any], direction: str = "rise",
+                limits: Mapping[str, int] | None = None) -> Curve:
+    """The curve of one spec.
+
+    Parameters
+    ----------
+    kind : str
+        A key of :data:`CURVE_KINDS`.
+    parameters : mapping
+        The kind's parameters (missing or None: the kind's default).
+    direction : {"rise", "return"}
+        ``return`` plays the rise backwards in time (Makino's INIT = 2).
+    limits : mapping, optional
+        Size limits by setting name (``max_bezier_degree``, ``max_curve_points``): handed
+        to the builder, which raises :class:`LimitExceededError` above them.
+
+    Returns
+    -------
+    Curve
+
+    References
+    ----------
+    Makino (1977), subroutine CURVE (INIT = 2).
+    """
+    spec = CURVE_KINDS.get(kind)
+    if spec is None:
+        raise InvalidParameterError(f"curve type must be one of {', '.join(CURVE_KINDS)}, not {kind!r}.")
+    if direction not in DIRECTIONS:
+        raise InvalidParameterError(f"direction must be 'rise' or 'return', not {direction!r}.")
+    args = {name: parameters[name] for name in spec.parameters if parameters.get(name) is not None}
+    if spec.limit is not None and limits is not None and spec.limit.setting in limits:
+        args[spec.limit.argument] = limits[spec.limit.setting]
+    rise = spec.build(**args)
+    return ReturnCurve(rise) if direction == "return" else rise

@@ -1,0 +1,138 @@
+"""Torque and power to index a load: the exact power balance and the catalog short form.
+
+References
+----------
+.. [1] INDEXMAN technical guide, section 5 (a = (h/th²)·A, characteristic values Qm, Am),
+   section 2 (n = 360/ψ), 计算分度精度 (accuracy).
+.. [2] Power balance of a lossless cam drive: input torque × input speed = output torque ×
+   output speed, so T_in = (dθout/dθin)·T_out = (h/θh)·V'(T)·T_out(T). The catalog short
+   form replaces the peak of V'·A' by Qm·Am (Q = A·V/Am, section 5 characteristic table).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..curves.curve import Curve
+from ..curves.extrema import peaks_of
+from ..errors import InvalidParameterError
+from .kinematics import Indexer, accuracy_mm
+from .load import Load
+from .results import Sizing
+
+
+def _power_balance_peaks(curve: Curve, c1: float, c2: float) -> tuple[float, float, float, float]:
+    """Exact max and min over [T0, T7] of f(T) = c1·V·A + c2·V, with the T of each.
+
+    Candidates are each piece's ends (one-sided) and the roots of
+    f' = c1·(J·V + A²) + c2·A, from :meth:`Curve.critical_points`. Ties: earliest T.
+    """
+    # f' = c1·(J·V + A²) + c2·A: its roots and the piece ends are where f can peak
+    t_all, k_all = curve.critical_points(lambda d: c1 * (d[3] * d[1] + d[2] * d[2]) + c2 * d[2])
+    _, v, a = curve.eval_pieces(t_all, k_all, 2)
+    top, bottom = peaks_of(curve, t_all, k_all, np.asarray(c1 * v * a + c2 * v, dtype=np.float64))
+    return top.value, top.t, bottom.value, bottom.t
+
+
+def size(
+    indexer: Indexer,
+    load: Load,
+    accuracy_arc_seconds: float | None = None,
+    accuracy_radius_mm: float | None = None,
+) -> Sizing:
+    """Output and input torque and input power needed to index a load.
+
+    Parameters
+    ----------
+    indexer : Indexer
+    load : Load
+    accuracy_arc_seconds, accuracy_radius_mm : float, optional
+        If both are given, ``accuracy_mm`` = :func:`accuracy_mm` of them [arcsec, mm].
+
+    Returns
+    -------
+    Sizing
+        - ``alpha_max_rad_s2`` = (h/th²)·Am (h in rad, Am = max|A|)
+        - ``inertia_torque_nm`` Ti = I·α_max; ``output_torque_nm`` Tt = Ti + Tf + Tw;
+          ``design_output_torque_nm`` = fc·Tt
+        - ``input_torque_nm`` = fc·max over T of |(h/θh)·V'(T)·[I·(h/th²)·A'(T) + Tf + Tw]|,
+          the exact peak of the power balance T_in·ω_in = T_out·ω_out (h/θh is the
+          output/input angle ratio), with its T, input angle and time
+        - ``input_torque_catalog_nm`` = 360/(n·θh)·Qm·fc·Tt (catalog short form,
+          Qm = the curve's Qm+)
+        - ``input_power_kw`` = 2π·N·T_in/60/η/1000; ``input_power_catalog_kw`` the same
+          with the catalog torque.
+
+    Notes
+    -----
+    With Tf = Tw = 0 the exact peak is fc·(h/θh)·I·(h/th²)·max(V·A) = fc·(h/θh)·Ti·Qm,
+    which is the catalog form: the two agree. Friction and work torque act at the
+    velocity peak (V up to Vm ≈ 1.76 for MS) while the catalog weights them with Qm
+    (≈ 0.99), so with large Tf or Tw the catalog form underestimates.
+
+    References
+    ----------
+    INDEXMAN technical guide, section 5 (a = (h/th²)·A, characteristic values Qm, Am);
+    section 2 (n = 360/ψ); 计算分度精度 (accuracy). Power balance of a lossless drive.
+    """
+    if not isinstance(indexer, Indexer):
+        raise InvalidParameterError("size() needs an Indexer as its first argument.")
+    if not isinstance(load, Load):
+        raise InvalidParameterError("size() needs a Load as its second argument.")
+    c = indexer.curve
+    ch = c.characteristics
+    d_t, d_s = indexer.spans
+    kv, ka, _ = indexer.scales
+    inertia = load.total_inertia_kgm2
+    alpha_max = abs(ka) * ch.am
+    ti = inertia * alpha_max
+    tf = load.total_friction_torque_nm
+    tw = float(load.work_torque_nm)
+    tt = ti + tf + tw
+    fc = float(load.service_factor)
+    eta = float(load.efficiency)
+    ratio = indexer.displacement_rad / math.radians(indexer.indexing_angle_deg)  # h/θh, output/input angle
+    # f(T) = ratio·V'·[I·(h/th²)·A' + Tf + Tw], with V' = V·ΔT/ΔS, I·(h/th²)·A' = I·ka·A
+    c1 = ratio * d_t / d_s * inertia * ka
+    c2 = ratio * d_t / d_s * (tf + tw)
+    f_max, t_max, f_min, t_min = _power_balance_peaks(c, c1, c2)
+    # the driving peak governs unless the braking peak is larger by more than rounding
+    # (for a symmetric curve without friction the two are equal up to the last bits)
+    braking = abs(f_min) > abs(f_max) * (1.0 + 1e-12)
+    t_peak = t_min if braking else t_max
+    t_in = fc * (abs(f_min) if braking else abs(f_max))
+    qm = ch.qm_pos.value * d_t / abs(d_s)
+    t_cat = 360.0 / (indexer.n * indexer.indexing_angle_deg) * qm * fc * tt
+    w_in = indexer.input_speed_rad_s
+    acc = None
+    if accuracy_arc_seconds is not None and accuracy_radius_mm is not None:
+        acc = float(accuracy_mm(accuracy_arc_seconds, accuracy_radius_mm))
+    return Sizing(
+        inertia_kgm2=inertia,
+        mass_kg=load.mass_kg,
+        alpha_max_rad_s2=alpha_max,
+        omega_max_rad_s=abs(kv) * ch.vm.value,
+        inertia_torque_nm=ti,
+        friction_torque_nm=tf,
+        work_torque_nm=tw,
+        output_torque_nm=tt,
+        design_output_torque_nm=fc * tt,
+        service_factor=fc,
+        efficiency=eta,
+        input_torque_nm=t_in,
+        input_torque_t=t_peak,
+        input_torque_input_angle_deg=float(indexer.angle_of_t(t_peak)),
+        input_torque_time_s=float(indexer.time_of_t(t_peak)),
+        input_torque_pos_nm=fc * f_max,
+        input_torque_pos_t=t_max,
+        input_torque_neg_nm=fc * f_min,
+        input_torque_neg_t=t_min,
+        input_torque_catalog_nm=t_cat,
+        qm=qm,
+        input_power_kw=w_in * t_in / eta / 1000.0,
+        input_power_catalog_kw=w_in * t_cat / eta / 1000.0,
+        speed_rpm=indexer.rpm,
+        accuracy_mm=acc,
+    )

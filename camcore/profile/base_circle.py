@@ -1,0 +1,127 @@
+"""Base-circle sizing: the smallest base radius that meets a pressure-angle limit and a
+radius-of-curvature limit.
+
+References
+----------
+.. [1] Shinzato and Kunigami (1988): the pressure angle of a translating follower,
+   tan φ = (s' − σe)/(s0 + s), falls as the base radius grows.
+.. [2] Bezier valve-cam notes: a flat tappet's cam radius Rb + s + s'' must stay positive.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .._solvers import NoFeasiblePointError, periodic_grid_max, smallest_feasible
+from ..curves.base import FloatArray
+from ..errors import GeometryError, InvalidParameterError
+from .cam import CamSpec, validate
+from .followers import FlatTranslating
+from .checks import check_grid, corners, profile_checks
+
+
+@dataclass(frozen=True)
+class BaseCircleResult:
+    """The smallest base radius meeting the limits and which one decided it.
+
+    ``active_constraint``: ``"pressure_angle"``, ``"radius_of_curvature"`` or
+    ``"geometry"`` (no limit binds; the smallest radius the follower geometry allows).
+    """
+
+    base_radius_mm: float
+    active_constraint: str
+    max_pressure_angle_deg: float
+    min_radius_of_curvature_mm: float
+    radius_for_pressure_angle_mm: float | None
+    radius_for_curvature_mm: float | None
+
+
+def _solve_radius(spec: CamSpec, margin: Callable[[CamSpec], float], what: str) -> float:
+    """Smallest Rb with margin(spec(Rb)) ≥ 0 (margin assumed to grow with Rb), to 1e-10
+    relative (:func:`smallest_feasible`); where the geometry cannot be assembled the margin
+    is unknown and the step bisects."""
+    lo = spec.model.min_base_radius_mm()
+
+    def at(rb: float) -> float:
+        s = replace(spec, base_radius_mm=rb)
+        try:
+            validate(s)
+        except GeometryError:
+            return -math.inf
+        return float(margin(s))
+
+    try:
+        return smallest_feasible(at, lo, max(lo * 1.5, max(1.0, spec.base_radius_mm)))
+    except NoFeasiblePointError as exc:
+        raise GeometryError(f"No base radius up to {exc.largest_tried!r} mm meets the {what} limit.") from None
+
+
+def size_base_circle(
+    spec: CamSpec,
+    max_pressure_angle_deg: float | None = None,
+    min_radius_of_curvature_mm: float | None = None,
+) -> BaseCircleResult:
+    """Smallest base radius with max |pressure angle| ≤ the limit and min radius of curvature
+    ≥ the limit (either may be None). Flat-faced followers always need a convex cam
+    (ρ > 0): a missing curvature limit means 0.
+
+    Each limit is solved on its own by the Illinois method to 1e-10 relative on the exact
+    extremes over the cam angle (grid + golden section, :func:`profile_checks`); the answer
+    is the larger radius. For translating followers the pressure angle tan φ = (s' − σe)/(s0 + s)
+    falls monotonically as Rb grows; the flat-faced translating case is closed form,
+    Rb = ρreq − min(s + s'').
+    """
+    model = spec.model
+    if max_pressure_angle_deg is not None and not (0 < max_pressure_angle_deg < 90):
+        raise InvalidParameterError("max_pressure_angle_deg must lie between 0 and 90 degrees.")
+    if min_radius_of_curvature_mm is not None and not (math.isfinite(min_radius_of_curvature_mm)
+                                                       and min_radius_of_curvature_mm >= 0):
+        raise InvalidParameterError("min_radius_of_curvature_mm must be a finite number ≥ 0.")
+    if model.flat_faced and min_radius_of_curvature_mm is None:
+        min_radius_of_curvature_mm = 0.0
+    if max_pressure_angle_deg is None and min_radius_of_curvature_mm is None:
+        raise InvalidParameterError("Give a pressure-angle limit, a curvature limit, or both.")
+    r_p: float | None = None
+    r_c: float | None = None
+    if max_pressure_angle_deg is not None and not model.flat_faced:
+        lim = max_pressure_angle_deg
+        r_p = _solve_radius(spec, lambda s: lim - profile_checks(s).max_pressure_angle_deg, "pressure-angle")
+    if min_radius_of_curvature_mm is not None:
+        req = min_radius_of_curvature_mm
+        if corners(spec):
+            raise GeometryError("The lift's velocity jumps, so the cam has a corner (radius 0) at any base radius.")
+        if isinstance(model, FlatTranslating):
+            # closed form: ρ = Rb + s + s''
+            grid = check_grid(spec)
+            br = np.asarray(spec.lift.breaks_rad, dtype=np.float64)
+
+            def neg_ss(t: FloatArray) -> FloatArray:
+                v = spec.lift.derivatives(t, 2)
+                return -(v[0] + v[2])
+
+            _, m = periodic_grid_max(neg_ss, grid, br)
+            # ρ = Rb + s + s'' > req strictly at the minimum would need Rb > req − min; take equality
+            r_c = req + m
+            if r_c <= 0:
+                r_c = None
+        else:
+            def curvature_margin(s: CamSpec) -> float:
+                c = profile_checks(s)
+                # an undercut cam fails however large its nominal radius: a negative margin
+                return c.min_radius_of_curvature_mm - req if not c.undercut else -1.0 - abs(c.min_radius_of_curvature_mm)
+
+            r_c = _solve_radius(spec, curvature_margin, "radius-of-curvature")
+    candidates = [(r, n) for r, n in ((r_p, "pressure_angle"), (r_c, "radius_of_curvature")) if r is not None]
+    if candidates:
+        rb, active = max(candidates)
+    else:
+        rb, active = max(model.min_base_radius_mm(), 1e-9), "geometry"
+    final = replace(spec, base_radius_mm=rb)
+    validate(final)
+    ch = profile_checks(final)
+    return BaseCircleResult(rb, active, ch.max_pressure_angle_deg, ch.min_radius_of_curvature_mm, r_p, r_c)
+

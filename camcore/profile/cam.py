@@ -1,0 +1,156 @@
+"""Plate-cam profiles: cam surface, pitch curve, pressure angle, radius of curvature.
+
+A plate cam turns about the origin O. Everything is computed by *kinematic
+inversion*: the follower's contact (or roller-centre) point ``c(θ)`` is found in the
+fixed frame and then turned back by the cam angle into the cam's own frame,
+
+    p(θ) = R(−σθ) c(θ),    σ = +1 for a counter-clockwise cam, −1 for clockwise,
+
+with R(a) the rotation by a. Derivatives with respect to the cam angle θ (radians)
+come from the analytic derivatives of the lift (chain rule through the motion curve),
+never from differences of the sampled contour. With J the rotation by +90°,
+d/dθ R(−σθ) = −σ R(−σθ) J, so the tangent and second derivative of p are
+
+    p'  = R(−σθ) u1,  u1 = c' − σ J c
+    p'' = R(−σθ) u2,  u2 = c'' − 2σ J c' − c.
+
+Frames and conventions
+----------------------
+* Translating followers move along +y in the fixed frame, on the line x = e
+  (``offset_mm``). At cam angle 0 the follower sits above the cam centre.
+* Oscillating followers: pivot A = (d, 0) (``pivot_distance_mm``), arm of length L
+  (``arm_length_mm``), follower point B(α) = (d − L cos α, L sin α) where α is the
+  arm angle measured from the line A→O. |OB|² = d² + L² − 2dL cos α grows with α,
+  so a positive swing ψ moves the follower away from the cam: α = α0 + ψ, with α0
+  from |OB(α0)| = Rb + Rr (base circle contact; needs |d − L| < Rb + Rr < d + L).
+* A ccw cam traverses its contour clockwise in its own frame as θ grows.
+
+Quantities
+----------
+* Knife-edge and roller (Rr = 0 for knife-edge): pitch point c(θ). The pitch-curve
+  curvature is κp = −σ (u1 × u2)/|u1|³ (positive where convex: for a ccw cam the
+  contour runs clockwise); ρp = 1/κp. The cam surface is c − Rr n̂, n̂ = σ J û1 the
+  outward normal of the pitch curve, and ρ = ρp − Rr (negative where concave).
+  Pressure angle φ between the common normal and the follower point's velocity
+  direction v̂ (v̂ = +y for translating; v̂ = dB/dα/|dB/dα| for oscillating):
+  φ = atan2(u1·v̂, −σ u1·(J v̂)). For a translating follower u1 = (σ(s0+s), s' − σe),
+  so φ = atan2(s' − σe, s0 + s), s0 = √((Rb+Rr)² − e²) — the textbook formula; for
+  the in-line knife-edge tan φ = s'/(Rb + s), Shinzato (1988) eq. (6).
+  Positive while the cam pushes the follower out.
+* Flat-faced: the face is a line with unit outward normal m at distance p from O
+  (support function). In the cam frame its normal angle is φn(θ); the envelope
+  (cam surface) touches at q = p m + (dp/dφn) J m and has ρ = p + d²p/dφn²
+  = p + (p'' φn' − p' φn'')/φn'³ (primes: d/dθ).
+  Translating (face ⟂ motion): p = Rb + s, φn = π/2 − σθ, so the contact point in the
+  fixed frame is (σ s', Rb + s) — contact offset = ds/dθ as in the valve-cam
+  document eq. (11) — and ρ = Rb + s + s''. Oscillating: the face is a line through
+  the pivot, m = (sin α, cos α), p = d sin α, α0 = asin(Rb/d). In both cases the face
+  normal is parallel to the velocity of the contact point, so φ = 0.
+
+References
+----------
+- S. Shinzato, M. Kunigami (1988): knife-edge contour x = l cos θ, y = l sin θ,
+  l = y + D/2, numerical pressure angle from the neighbouring points, eq. (6).
+- "Bezier valve cam" document: rotation ratio γ = ω_cam/ω_dr, θcam = γ θdr,
+  dh/dθcam = (1/γ) dh/dθdr (eq. 12), flat tappet contact offset = dh/dθ (eq. 11),
+  convexity test cos φi > 0 and sin φi > 0 for consecutive chord vectors.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..curves.base import FloatArray
+from ..errors import GeometryError, InvalidParameterError
+from .followers import Follower, FollowerModel, Kinematics, follower_model
+from .lift import TWO_PI, CurveLift, LiftSchedule, Segment
+
+
+@dataclass(frozen=True)
+class CamSpec:
+    """A plate cam: follower, base-circle radius, rotation and lift over one cam turn.
+
+    ``base_radius_mm`` is the radius of the base circle = the smallest radius of the cam
+    surface (the roller's pitch circle is Rb + Rr). ``lift`` is a :class:`LiftSchedule`,
+    a :class:`CurveLift` or any object with the :class:`Lift` protocol, in mm for
+    translating followers and in degrees of swing for oscillating followers.
+    """
+
+    follower: Follower
+    base_radius_mm: float
+    lift: Any
+    rotation: Literal["ccw", "cw"] = "ccw"
+
+    @property
+    def sigma(self) -> float:
+        return 1.0 if self.rotation == "ccw" else -1.0
+
+    @property
+    def model(self) -> FollowerModel:
+        """The follower's behaviour (:mod:`.followers`)."""
+        return follower_model(self.follower)
+
+
+def make_cam(
+    follower: Follower,
+    base_radius_mm: float,
+    *,
+    segments: Sequence[Segment] | None = None,
+    lift_curve: Any = None,
+    rotation: Literal["ccw", "cw"] = "ccw",
+    rotation_ratio: float = 1.0,
+) -> CamSpec:
+    """Build and validate a :class:`CamSpec` from segments or one user lift curve."""
+    unit = "deg" if follower.motion == "oscillating" else "mm"
+    if (segments is None) == (lift_curve is None):
+        raise InvalidParameterError("Give the lift either as segments or as one lift curve, not both.")
+    lift = LiftSchedule(segments, unit=unit) if segments is not None else CurveLift(lift_curve, rotation_ratio, unit)
+    spec = CamSpec(follower, base_radius_mm, lift, rotation)
+    validate(spec)
+    return spec
+
+
+def validate(spec: CamSpec) -> None:
+    """Raise :class:`GeometryError` / :class:`InvalidParameterError` with the reason.
+
+    Parameters
+    ----------
+    spec : CamSpec
+    """
+    model = spec.model
+    f = spec.follower
+    if spec.rotation not in ("ccw", "cw"):
+        raise InvalidParameterError(f"rotation must be 'ccw' or 'cw', not {spec.rotation!r}.")
+    rb = spec.base_radius_mm
+    if not (math.isfinite(rb) and rb > 0):
+        raise GeometryError(f"The base radius must be positive (it is {rb!r} mm).")
+    if f.type == "roller" and not (math.isfinite(f.roller_radius_mm) and f.roller_radius_mm > 0):
+        raise GeometryError(f"A roller follower needs a roller radius > 0 (it is {f.roller_radius_mm!r} mm).")
+    if not math.isfinite(f.offset_mm):
+        raise InvalidParameterError("offset_mm must be finite.")
+    model.check(rb)
+    h = spec.lift.derivatives(np.linspace(0.0, TWO_PI, 721), 0)[0]
+    if not np.all(np.isfinite(h)):
+        raise InvalidParameterError("The lift is not finite everywhere.")
+    if h.min() < -1e-9 * max(1.0, float(np.abs(h).max())):
+        raise GeometryError(
+            f"The lift goes below zero ({float(h.min())!r}); the base circle is the smallest radius of the cam, "
+            "so the lift must be ≥ 0.")
+    model.check_swing(rb, h)
+
+
+def kinematics(spec: CamSpec, theta: FloatArray) -> Kinematics:
+    """Fixed-frame kinematics of the cam at cam angles θ [rad] (see :mod:`.followers`)."""
+    return spec.model.kinematics(spec.base_radius_mm, spec.sigma, theta, spec.lift.derivatives(theta, 2))
+
+
+def rotate(x: FloatArray, y: FloatArray, ang: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """(x, y) turned by the angles ang [rad]."""
+    c, s = np.cos(ang), np.sin(ang)
+    return c * x - s * y, s * x + c * y

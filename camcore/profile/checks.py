@@ -1,0 +1,150 @@
+"""Checks of a plate cam over the whole turn: largest pressure angle, smallest radius of
+curvature, convexity, undercut, corners (exact extremes, not just the sampled angles).
+
+References
+----------
+.. [1] Bezier valve-cam notes: convexity test cos φi > 0 and sin φi > 0 for consecutive
+   chord vectors; a flat tappet needs a convex cam.
+.. [2] Shinzato and Kunigami (1988), eq. (6): the pressure angle.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._solvers import periodic_grid_max
+from ..curves.base import FloatArray
+from .cam import CamSpec, kinematics, rotate
+from .lift import TWO_PI
+from .points import chord_convexity
+
+#: grid over one cam turn used to bracket the extremes of the checks
+CHECK_GRID = 7200
+
+
+@dataclass(frozen=True)
+class ProfileChecks:
+    """Exact extremes over the whole cam turn (not just the sampled angles).
+
+    ``max_pressure_angle_deg`` is the largest |φ| (the signed value at that angle is
+    ``max_pressure_angle_signed_deg``); ``min_radius_of_curvature_mm`` the smallest
+    radius of curvature of the convex parts of the cam surface (knife-edge, roller:
+    from the largest pitch-curve curvature; flat-faced: min of Rb + s + s'' or the
+    oscillating equivalent, which may be negative = the cam cannot be made).
+    ``convex``: the cam surface has no concave part (flat-faced: ρ > 0 everywhere AND the
+    valve-cam document's neighbouring-chord test on the sampled contour).
+    ``undercut``: roller radius ≥ the pitch curve's radius of curvature somewhere on a
+    convex part (the roller cannot generate the surface). ``corners_deg``: cam angles where
+    the lift's velocity jumps (the surface has a corner there, radius 0).
+    """
+
+    max_pressure_angle_deg: float
+    max_pressure_angle_at_deg: float
+    max_pressure_angle_signed_deg: float
+    min_radius_of_curvature_mm: float
+    min_radius_of_curvature_at_deg: float
+    min_pitch_radius_of_curvature_mm: float | None
+    convex: bool
+    undercut: bool
+    corners_deg: tuple[float, ...] = ()
+    face_min_mm: float | None = None
+    face_max_mm: float | None = None
+    face_width_mm: float | None = None
+
+
+# ---------------------------------------------------------------- exact extremes
+def check_grid(spec: CamSpec, n: int = CHECK_GRID) -> FloatArray:
+    """A fine grid over [0, 2π) with every break point and its left neighbour."""
+    base = np.linspace(0.0, TWO_PI, n, endpoint=False)
+    br = np.asarray(spec.lift.breaks_rad, dtype=np.float64)
+    left = np.mod(br - 1e-10, TWO_PI)
+    return np.unique(np.concatenate([base, br, left]))
+
+
+def corners(spec: CamSpec) -> list[float]:
+    """Cam angles where the lift's velocity jumps (the surface has a corner there) [deg]."""
+    br = np.asarray(spec.lift.breaks_rad, dtype=np.float64)
+    if br.size == 0:
+        return []
+    right = spec.lift.derivatives(br, 1)
+    left = spec.lift.derivatives(br - 1e-9, 1)
+    scale = max(1.0, float(np.abs(spec.lift.derivatives(check_grid(spec, 720), 1)[1]).max()))
+    jump = np.abs(right[1] - left[1]) > 1e-6 * scale
+    return [float(np.degrees(b)) for b in br[jump]]
+
+
+def _face_offset(spec: CamSpec, theta: FloatArray) -> FloatArray:
+    offset = kinematics(spec, theta).offset
+    assert offset is not None  # flat faces have one
+    return offset
+
+
+def profile_checks(spec: CamSpec) -> ProfileChecks:
+    """Largest |pressure angle|, smallest radius of curvature, convexity, undercut.
+
+    Parameters
+    ----------
+    spec : CamSpec
+
+    Returns
+    -------
+    ProfileChecks
+        Exact extremes: the best point of a 7200-point grid (with every break point and
+        its left neighbour), refined by golden section between its neighbours.
+
+    References
+    ----------
+    Shinzato and Kunigami (1988), eq. (6); Bezier valve-cam notes (convexity test).
+    """
+    grid = check_grid(spec)
+    br = np.asarray(spec.lift.breaks_rad, dtype=np.float64)
+    model = spec.model
+
+    def abs_pressure(t: FloatArray) -> FloatArray:
+        return np.abs(kinematics(spec, t).pressure)
+
+    t_p, v_p = periodic_grid_max(abs_pressure, grid, br)
+    signed = float(kinematics(spec, np.array([t_p])).pressure[0])
+    corner_angles = corners(spec)
+    face: dict[str, float | None] = {"face_min_mm": None, "face_max_mm": None, "face_width_mm": None}
+    if model.flat_faced:
+        t_r, neg = periodic_grid_max(lambda t: -kinematics(spec, t).rho_cam, grid, br)
+        rho_min = -neg
+        rho_p_min: float | None = None
+        _, off_max = periodic_grid_max(lambda t: _face_offset(spec, t), grid, br)
+        _, off_min_neg = periodic_grid_max(lambda t: -_face_offset(spec, t), grid, br)
+        face = {"face_min_mm": -off_min_neg, "face_max_mm": off_max, "face_width_mm": off_max + off_min_neg}
+        # the chord test on an even 0.1° grid: the check grid's break-point neighbours sit an
+        # ulp apart, and chords that short turn the cross product into rounding noise
+        even = np.linspace(0.0, 2 * math.pi, 3601)[:-1]
+        kin_even = kinematics(spec, even)
+        sx, sy = rotate(kin_even.contact[0], kin_even.contact[1], -spec.sigma * even)
+        convex = bool(rho_min > 0 and chord_convexity(sx, sy))
+        undercut = False
+    else:
+        rr = model.roller_radius_mm
+        t_r, kmax = periodic_grid_max(lambda t: kinematics(spec, t).kappa_pitch, grid, br)
+        _, kmin_neg = periodic_grid_max(lambda t: -kinematics(spec, t).kappa_pitch, grid, br)
+        rho_p_min = 1.0 / kmax if kmax > 0 else math.inf
+        rho_min = rho_p_min - rr
+        undercut = bool(rr > 0 and kmax > 0 and rr >= rho_p_min)
+        convex = bool(-kmin_neg > 0 and not undercut)
+    if corner_angles:
+        rho_min, t_r = 0.0, math.radians(corner_angles[0])
+        if model.flat_faced:
+            convex = False
+    return ProfileChecks(
+        max_pressure_angle_deg=math.degrees(v_p),
+        max_pressure_angle_at_deg=math.degrees(t_p),
+        max_pressure_angle_signed_deg=math.degrees(signed),
+        min_radius_of_curvature_mm=float(rho_min),
+        min_radius_of_curvature_at_deg=math.degrees(t_r),
+        min_pitch_radius_of_curvature_mm=rho_p_min,
+        convex=convex,
+        undercut=undercut,
+        corners_deg=tuple(corner_angles),
+        **face,
+    )

@@ -1,0 +1,233 @@
+"""The lift over one cam turn: rise / dwell / return segments, or one user curve over the
+drive angle, with the rotation ratio between drive shaft and cam shaft.
+
+References
+----------
+.. [1] Bezier valve-cam notes: rotation ratio γ = ω_cam/ω_dr, θcam = γ θdr,
+   dh/dθcam = (1/γ) dh/dθdr (eq. 12).
+.. [2] Makino (1977), subroutine CURVE (INIT = 2: a return plays the rise backwards).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, Literal, Protocol
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..curves.base import FloatArray
+from ..curves.catalog import named_curve
+from ..curves.curve import Curve
+from ..curves.reverse import ReturnCurve
+from ..errors import GeometryError, InvalidParameterError
+
+TWO_PI = 2.0 * math.pi
+#: angles (degrees) of a lift schedule must add to 360 within this tolerance
+ANGLE_TOLERANCE_DEG = 1e-9
+#: a schedule "closes" when its final level equals its initial level within this (mm or deg)
+CLOSURE_TOLERANCE = 1e-9
+
+
+# ============================================================================ lift
+class Lift(Protocol):
+    """Anything that gives the lift and its derivatives over the cam angle.
+
+    ``derivatives(theta, order)`` returns [h, dh/dθ, d²h/dθ², d³h/dθ³][: order + 1]
+    at cam angles θ (radians, any real value: the lift is periodic over 2π), in the
+    lift's unit (mm, or degrees of swing for oscillating followers) per radian^k.
+    ``breaks_rad`` lists cam angles in [0, 2π) where a derivative may jump.
+    """
+
+    unit: str
+
+    def derivatives(self, theta: ArrayLike, order: int = 2) -> list[FloatArray]: ...
+
+    @property
+    def breaks_rad(self) -> FloatArray: ...
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One stretch of a lift schedule.
+
+    kind: ``"rise"``, ``"dwell"`` or ``"return"``; ``angle_deg``: its cam angle;
+    ``lift_mm`` (translating followers) or ``swing_deg`` (oscillating): the rise or the
+    drop; ``curve``: the motion law of a rise (a return plays it backwards with
+    :class:`ReturnCurve`; pass a curve that rises, S: S0 → S7). ``None`` = cycloid.
+    """
+
+    kind: Literal["rise", "dwell", "return"]
+    angle_deg: float
+    lift_mm: float = 0.0
+    curve: Curve | None = None
+    swing_deg: float | None = None
+
+    @property
+    def amount(self) -> float:
+        return float(self.swing_deg if self.swing_deg is not None else self.lift_mm)
+
+
+@dataclass(frozen=True)
+class _Piece:
+    start: float  # rad
+    span: float  # rad
+    level: float  # lift at the start of the segment
+    amount: float  # signed change over the segment
+    curve: Curve | None  # None: dwell
+    s0: float
+    s1: float
+
+
+class LiftSchedule:
+    """Lift over one cam turn from rise / dwell / return segments (angles add to 360°).
+
+    Rise: h = level + lift·(S(T) − S0)/(S7 − S0); return: h = level − lift·(…) with the
+    :class:`ReturnCurve` of the segment's curve; T = T0 + (T7 − T0)·(θ − θa)/β. By the
+    chain rule dᵏh/dθᵏ = ±lift/(S7 − S0)·((T7 − T0)/β)ᵏ·dᵏS/dTᵏ (β in radians).
+    """
+
+    def __init__(self, segments: Sequence[Segment], initial: float = 0.0, unit: str = "mm"):
+        if not segments:
+            raise InvalidParameterError("A lift schedule needs at least one segment.")
+        total = 0.0
+        for i, seg in enumerate(segments):
+            if seg.kind not in ("rise", "dwell", "return"):
+                raise InvalidParameterError(
+                    f"segments[{i}]: type must be 'rise', 'dwell' or 'return', not {seg.kind!r}.")
+            if not (math.isfinite(seg.angle_deg) and seg.angle_deg > 0):
+                raise InvalidParameterError(f"segments[{i}]: angle_deg must be a positive number of degrees.")
+            if seg.kind != "dwell" and not (math.isfinite(seg.amount) and seg.amount >= 0):
+                raise InvalidParameterError(
+                    f"segments[{i}]: the {seg.kind} must be a finite, non-negative lift (it is {seg.amount!r}).")
+            total += seg.angle_deg
+        if abs(total - 360.0) > ANGLE_TOLERANCE_DEG:
+            raise InvalidParameterError(
+                f"The segment angles add to {total!r}°; they must add to 360° (one cam turn).")
+        pieces: list[_Piece] = []
+        level = float(initial)
+        start = 0.0
+        for i, seg in enumerate(segments):
+            span = math.radians(seg.angle_deg)
+            if seg.kind == "dwell":
+                pieces.append(_Piece(start, span, level, 0.0, None, 0.0, 1.0))
+            else:
+                rise = seg.curve if seg.curve is not None else named_curve("cycloid")
+                curve = rise if seg.kind == "rise" else ReturnCurve(rise)
+                s0, s1 = curve.s_start, curve.s_end
+                if s1 == s0 or (seg.kind == "rise") != (s1 > s0):
+                    raise InvalidParameterError(
+                        f"segments[{i}]: the curve of a {seg.kind} must run from S0 to a different S7 "
+                        "(give the rising curve; a return plays it backwards).")
+                amount = seg.amount if seg.kind == "rise" else -seg.amount
+                pieces.append(_Piece(start, span, level, amount, curve, s0, s1))
+                level += amount
+                if level < -CLOSURE_TOLERANCE:
+                    raise GeometryError(
+                        f"segments[{i}]: the return drops the follower {-level!r} below the base circle.")
+            start += span
+        if abs(level - initial) > CLOSURE_TOLERANCE * max(1.0, abs(initial)):
+            raise InvalidParameterError(
+                f"The schedule does not close: it ends at {level!r} {unit} but starts at {initial!r} {unit}; "
+                "the rises must equal the returns over one turn.")
+        self.segments = tuple(segments)
+        self.unit = unit
+        self.initial = float(initial)
+        self._pieces = pieces
+        self._starts = np.array([p.start for p in pieces])
+        br: list[float] = []
+        for p in pieces:
+            br.append(p.start)
+            if p.curve is not None:
+                t0, t7 = p.curve.t_start, p.curve.t_end
+                br.extend(p.start + p.span * (np.asarray(p.curve.break_points) - t0) / (t7 - t0))
+        self._breaks = np.unique(np.mod(np.asarray(br, dtype=np.float64), TWO_PI))
+
+    @property
+    def breaks_rad(self) -> FloatArray:
+        return self._breaks
+
+    def derivatives(self, theta: ArrayLike, order: int = 2) -> list[FloatArray]:
+        th = np.asarray(theta, dtype=np.float64)
+        flat = np.mod(th.reshape(-1), TWO_PI)
+        idx = np.clip(np.searchsorted(self._starts, flat, side="right") - 1, 0, len(self._pieces) - 1)
+        out = [np.zeros_like(flat) for _ in range(order + 1)]
+        for k, p in enumerate(self._pieces):
+            sel = idx == k
+            if not sel.any():
+                continue
+            if p.curve is None:
+                out[0][sel] = p.level
+                continue
+            c = p.curve
+            rate = (c.t_end - c.t_start) / p.span
+            u = np.clip((flat[sel] - p.start) / p.span, 0.0, 1.0)
+            vals = c.derivatives(c.t_start + (c.t_end - c.t_start) * u, order)
+            gain = p.amount / (p.s1 - p.s0)
+            out[0][sel] = p.level + gain * (vals[0] - p.s0)
+            for o in range(1, order + 1):
+                out[o][sel] = gain * rate**o * vals[o]
+        return [o.reshape(th.shape) for o in out]
+
+
+class CurveLift:
+    """One user lift curve over the drive angle (a Bezier or points curve).
+
+    The curve carries a ``scale`` (:class:`camcore.curves.base.Scale`): drive angle
+    θdr = theta_start + theta_span·τ (degrees), h = h_min + h_span·S(T) with T mapped
+    linearly from τ ∈ [0, 1) to [T0, T7], periodic over theta_span. The cam angle is
+    θcam = γ θdr (γ = ``rotation_ratio``, cam turns per drive turn), so
+    dh/dθcam = (1/γ)·dh/dθdr (valve-cam document, eq. 12), and so on for higher orders.
+    One cam turn is 360/γ degrees of drive angle; it must hold a whole number of
+    periods of the curve, and the curve must close (S(T7) = S(T0)).
+    """
+
+    def __init__(self, curve: Any, rotation_ratio: float = 1.0, unit: str = "mm"):
+        scale = getattr(curve, "scale", None)
+        if scale is None:
+            raise InvalidParameterError("A user lift curve needs a scale (drive angle and lift units).")
+        if not (math.isfinite(rotation_ratio) and rotation_ratio > 0):
+            raise InvalidParameterError("rotation_ratio must be a positive number (cam turns per drive turn).")
+        span = float(scale.theta_span)
+        if not (math.isfinite(span) and span > 0):
+            raise InvalidParameterError("The lift curve must span a positive drive angle.")
+        drive_per_turn = 360.0 / rotation_ratio
+        periods = drive_per_turn / span
+        if abs(periods - round(periods)) > 1e-9 * max(1.0, periods) or round(periods) < 1:
+            raise InvalidParameterError(
+                f"One cam turn is {drive_per_turn!r}° of drive angle (360°/rotation_ratio); the lift curve spans "
+                f"{span!r}°, which does not fit a whole number of times, so the cam contour would not close.")
+        tol = 1e-9 * max(1.0, abs(scale.h_span))
+        if abs(scale.h_span * (curve.s_end - curve.s_start)) > tol:
+            raise InvalidParameterError(
+                "The lift curve does not close: its lift at the end of its span differs from the start.")
+        self.curve = curve
+        self.scale = scale
+        self.rotation_ratio = float(rotation_ratio)
+        self.unit = unit
+        t_breaks = np.asarray(curve.break_points, dtype=np.float64)
+        tau = (t_breaks - curve.t_start) / (curve.t_end - curve.t_start)
+        drive = scale.theta_start + span * tau
+        reps = int(round(periods))
+        cam = np.concatenate([np.radians((drive + k * span) * rotation_ratio) for k in range(reps)])
+        self._breaks = np.unique(np.mod(cam, TWO_PI))
+
+    @property
+    def breaks_rad(self) -> FloatArray:
+        return self._breaks
+
+    def derivatives(self, theta: ArrayLike, order: int = 2) -> list[FloatArray]:
+        th = np.asarray(theta, dtype=np.float64)
+        c, sc, g = self.curve, self.scale, self.rotation_ratio
+        drive_deg = np.degrees(th) / g
+        tau = np.mod((drive_deg - sc.theta_start) / sc.theta_span, 1.0)
+        t = c.t_start + (c.t_end - c.t_start) * tau
+        vals = c.derivatives(t, order)
+        # dT/dθcam = (T7 − T0)/(span_rad · γ)
+        rate = (c.t_end - c.t_start) / (math.radians(sc.theta_span) * g)
+        out = [sc.h_min + sc.h_span * vals[0]]
+        for o in range(1, order + 1):
+            out.append(sc.h_span * rate**o * vals[o])
+        return out

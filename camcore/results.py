@@ -1,0 +1,100 @@
+"""One way for every result to become plain data.
+
+Core results are frozen dataclasses whose fields carry their unit in the name and a
+description in their metadata (``field(metadata={"description": ...})``). The service
+serves them as they are: it derives its answer schemas from :func:`answer_fields` and
+its answers from :func:`as_dict`, so a result is defined once.
+
+An :class:`Extremum` field ``x`` becomes two plain fields, ``x`` (the value) and
+``t_x`` (where it occurs); arrays and tuples become lists; numpy scalars become Python
+numbers; nested result dataclasses become nested dicts.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import types
+import typing
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Extremum:
+    """A peak value and the T where it first occurs."""
+
+    value: float
+    t: float
+
+
+def describe(text: str, **kwargs: Any) -> Any:
+    """A dataclass field with a description for the answer schema (``field(metadata=...)``)."""
+    return dataclasses.field(metadata={"description": text}, **kwargs)
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, tuple | list):
+        return [_plain(v) for v in value]
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return as_dict(value)
+    return value
+
+
+def as_dict(result: Any) -> dict[str, Any]:
+    """A result dataclass as JSON-ready plain values (see the module docstring)."""
+    out: dict[str, Any] = {}
+    for f in dataclasses.fields(result):
+        if f.metadata.get("internal"):
+            continue
+        value = getattr(result, f.name)
+        if isinstance(value, Extremum):
+            out[f.name] = float(value.value)
+            out[f"t_{f.name}"] = float(value.t)
+        else:
+            out[f.name] = _plain(value)
+    return out
+
+
+def table_columns(result: Any) -> dict[str, Any]:
+    """The array fields of a table result, by name (internal fields left out)."""
+    return {f.name: getattr(result, f.name) for f in dataclasses.fields(result)
+            if not f.metadata.get("internal")}
+
+
+def answer_fields(cls: type) -> list[tuple[str, Any, str | None, bool]]:
+    """(name, Python type, description, required) of each plain field of a result class.
+
+    The types are the dataclass's own annotations with :class:`Extremum` expanded into
+    two floats and tuples into lists: what :func:`as_dict` produces.
+    """
+    hints = typing.get_type_hints(cls)
+    out: list[tuple[str, Any, str | None, bool]] = []
+    for f in dataclasses.fields(cls):
+        if f.metadata.get("internal"):
+            continue
+        hint = hints[f.name]
+        text = f.metadata.get("description")
+        required = f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+        if hint is Extremum:
+            out.append((f.name, float, text, required))
+            out.append((f"t_{f.name}", float, f"where {f.name} occurs" if text is None else f"where it occurs: {text}",
+                        required))
+            continue
+        out.append((f.name, _listify(hint), text, required))
+    return out
+
+
+def _listify(hint: Any) -> Any:
+    origin = typing.get_origin(hint)
+    if origin is tuple:
+        args = [a for a in typing.get_args(hint) if a is not Ellipsis]
+        return list[args[0]] if args else list[Any]  # type: ignore[valid-type]
+    if origin in (typing.Union, types.UnionType):
+        return typing.Union[tuple(_listify(a) for a in typing.get_args(hint))]
+    return hint
