@@ -1,7 +1,7 @@
 """One way for every result to become plain data.
 
 Core results are frozen dataclasses whose fields carry their unit in the name and a
-description in their metadata (``field(metadata={"description": ...})``). The service
+description in their metadata (``field(metadata=doc(...))``). The service
 serves them as they are: it derives its answer schemas from :func:`answer_fields` and
 its answers from :func:`as_dict`, so a result is defined once.
 
@@ -13,6 +13,8 @@ numbers; nested result dataclasses become nested dicts.
 from __future__ import annotations
 
 import dataclasses
+import functools
+import operator
 import types
 import typing
 from dataclasses import dataclass
@@ -29,9 +31,10 @@ class Extremum:
     t: float
 
 
-def describe(text: str, **kwargs: Any) -> Any:
-    """A dataclass field with a description for the answer schema (``field(metadata=...)``)."""
-    return dataclasses.field(metadata={"description": text}, **kwargs)
+def doc(text: str) -> dict[str, str]:
+    """Field metadata with a description for the answer schema:
+    ``name: float = field(metadata=doc("..."))``."""
+    return {"description": text}
 
 
 def _plain(value: Any) -> Any:
@@ -96,5 +99,5 @@ def _listify(hint: Any) -> Any:
         args = [a for a in typing.get_args(hint) if a is not Ellipsis]
         return list[args[0]] if args else list[Any]  # type: ignore[valid-type]
     if origin in (typing.Union, types.UnionType):
-        return typing.Union[tuple(_listify(a) for a in typing.get_args(hint))]
+        return functools.reduce(operator.or_, (_listify(a) for a in typing.get_args(hint)))
     return hint

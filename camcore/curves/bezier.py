@@ -35,10 +35,10 @@ import numpy as np
 from numpy.polynomial import Chebyshev
 from numpy.typing import ArrayLike, NDArray
 
-from .base import FloatArray, Scale
-from .curve import Curve
 from .._solvers import bracketed_newton
 from ..errors import DegenerateCurveError, LimitExceededError
+from .base import FloatArray, Scale
+from .curve import Curve
 
 #: largest Bezier degree accepted by default: de Casteljau costs O(n²) per point and
 #: a user-drawn lift needs far fewer control points than this.

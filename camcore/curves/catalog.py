@@ -23,8 +23,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import lru_cache
 
-from .curve import Curve
 from ..errors import UnknownCurveError
+from .curve import Curve
 from .polynomial import NAMED_POLYNOMIALS, PolynomialCurve
 from .universal import MAKINO_BREAK_POINTS, makino_curve, modified_constant_velocity, trapecloid_2
 

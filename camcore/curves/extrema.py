@@ -13,13 +13,13 @@ References
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
 
 from .._solvers import illinois_roots
-from ..results import Extremum, describe
+from ..results import Extremum, doc
 from .base import FloatArray, PiecewiseCurve
 
 #: samples per piece used to bracket the roots of a derivative before refining them;
@@ -36,20 +36,20 @@ class Characteristics:
     ``qm_neg``) are signed (≤ 0 for the standard curves), as Makino's AJKMM and QMM are.
     """
 
-    vm: Extremum = describe("largest |V|")
-    am: float = describe("largest |A|, the Am that normalises Q")
-    am_pos: Extremum = describe("largest A")
-    am_neg: Extremum = describe("smallest A (signed)")
-    jm_pos: Extremum = describe("largest J")
-    jm_neg: Extremum = describe("smallest J (signed)")
-    qm_pos: Extremum = describe("largest Q = A·V/Am (indexer catalog)")
-    qm_neg: Extremum = describe("smallest Q = A·V/Am (signed)")
-    qm_raw_pos: Extremum = describe("largest A·V (Makino's QMP)")
-    qm_raw_neg: Extremum = describe("smallest A·V (Makino's QMM)")
-    v_max: Extremum = describe("largest V")
-    v_min: Extremum = describe("smallest V")
-    s_max: Extremum = describe("largest S")
-    s_min: Extremum = describe("smallest S")
+    vm: Extremum = field(metadata=doc("largest |V|"))
+    am: float = field(metadata=doc("largest |A|, the Am that normalises Q"))
+    am_pos: Extremum = field(metadata=doc("largest A"))
+    am_neg: Extremum = field(metadata=doc("smallest A (signed)"))
+    jm_pos: Extremum = field(metadata=doc("largest J"))
+    jm_neg: Extremum = field(metadata=doc("smallest J (signed)"))
+    qm_pos: Extremum = field(metadata=doc("largest Q = A·V/Am (indexer catalog)"))
+    qm_neg: Extremum = field(metadata=doc("smallest Q = A·V/Am (signed)"))
+    qm_raw_pos: Extremum = field(metadata=doc("largest A·V (Makino's QMP)"))
+    qm_raw_neg: Extremum = field(metadata=doc("smallest A·V (Makino's QMM)"))
+    v_max: Extremum = field(metadata=doc("largest V"))
+    v_min: Extremum = field(metadata=doc("smallest V"))
+    s_max: Extremum = field(metadata=doc("largest S"))
+    s_min: Extremum = field(metadata=doc("smallest S"))
 
 
 def critical_points(curve: PiecewiseCurve, slopes: Callable[[list[FloatArray]], FloatArray]
@@ -94,7 +94,10 @@ def critical_points(curve: PiecewiseCurve, slopes: Callable[[list[FloatArray]], 
         if k_idx.size:
             lo, hi = grid[k_idx, i_idx].copy(), grid[k_idx, i_idx + 1].copy()
             f_lo, f_hi = d[k_idx, i_idx].copy(), d[k_idx, i_idx + 1].copy()
-            illinois_roots(lambda t, k, row=q: rows(t, k)[row], lo, hi, f_lo, f_hi, k_idx)
+            def row_q(t: FloatArray, k: NDArray[np.intp], row: int = q) -> FloatArray:
+                return rows(t, k)[row]
+
+            illinois_roots(row_q, lo, hi, f_lo, f_hi, k_idx)
             times.append(0.5 * (lo + hi))
             pieces.append(k_idx)
         zk, zi = np.nonzero(d == 0.0)

@@ -36,9 +36,9 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..errors import DegenerateCurveError, LimitExceededError
 from .base import FloatArray, Scale
 from .curve import Curve
-from ..errors import DegenerateCurveError, LimitExceededError
 
 #: limited slopes are kept this far inside Fritsch–Carlson's bound m/δ ≤ 3, so that the
 #: ratio recomputed in floating point cannot land a rounding error above 3.

@@ -19,9 +19,9 @@ import numpy as np
 from numpy.polynomial import Polynomial
 from numpy.typing import NDArray
 
+from ..errors import InvalidParameterError
 from .base import FloatArray
 from .curve import Curve
-from ..errors import InvalidParameterError
 
 NAMED_POLYNOMIALS: dict[str, tuple[float, ...]] = {
     "constant-velocity": (0.0, 1.0),
@@ -41,7 +41,7 @@ class PolynomialCurve(Curve):
         c_0, c_1, … in increasing powers of T.
     """
 
-    def __init__(self, coefficients: Sequence[float]):
+    def __init__(self, coefficients: Sequence[float] | FloatArray):
         coef = np.asarray(coefficients, dtype=np.float64)
         if coef.size == 0 or not np.all(np.isfinite(coef)):
             raise InvalidParameterError("polynomial coefficients must be finite numbers.")

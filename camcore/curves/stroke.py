@@ -167,4 +167,4 @@ def table_rows(curve: PiecewiseCurve, step: float) -> FloatArray:
         t_rows = np.append(t_rows, curve.t_end)
     else:
         t_rows[-1] = curve.t_end
-    return t_rows
+    return np.asarray(t_rows, dtype=np.float64)

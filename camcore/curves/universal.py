@@ -90,7 +90,7 @@ def _stroke_per_amplitude(t: tuple[float, ...]) -> tuple[float, float, float, fl
     Returns (P, N, Cp, Cn): S7 − S0 − V0(T7−T0) = Amp·P − Amm·N   (eq. 11)
                             V7 − V0             = Amp·Cp − Amm·Cn (eqs. 2-8)
     """
-    t0, _t1, t2, t3, t4, t5, t6, t7 = t
+    t0, _t1, t2, t3, t4, _t5, t6, t7 = t
     c1, c2, c3, _c4, c5, c6, c7 = _section_constants(t)
     p = c3 * c3 + 0.5 * c2 * c2 - c1 * c1 + c3 * (t7 - t3) + c2 * (t7 - t2) + c1 * (t7 - t0)
     n = c7 * c7 + 0.5 * c6 * c6 - c5 * c5 + c6 * (t7 - t6) + c5 * (t7 - t4)

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from ..results import describe, table_columns
+from ..results import doc, table_columns
 
 FloatArray = NDArray[np.float64]
 
@@ -27,28 +27,28 @@ class MotionSummary:
     the index) each first occurs.
     """
 
-    indexing_time_s: float = describe("th = (θh/360)·(60/N) [s]")
-    cycle_time_s: float = describe("unit cycle time t0 = 60/(N·z) [s]")
-    dwell_time_s: float = describe("t2 = t0 − th [s]")
-    machine_cycle_time_s: float = describe("tm = t0 + ts [s]")
-    displacement_deg: float = describe("h = 360/n or ψ [deg]")
-    stops: float = describe("n (360/ψ for oscillating units, may be fractional)")
-    indexing_angle_deg: float = describe("θh [deg]")
-    total_indexing_angle_deg: float = describe("θt = θh·z [deg]")
-    dwell_angle_deg: float = describe("input angle of one dwell, 360/z − θh [deg]")
-    dwells: int = describe("z")
-    speed_rpm: float = describe("N [rpm]")
-    omega_rad_s: float = describe("largest |ω| [rad/s]")
+    indexing_time_s: float = field(metadata=doc("th = (θh/360)·(60/N) [s]"))
+    cycle_time_s: float = field(metadata=doc("unit cycle time t0 = 60/(N·z) [s]"))
+    dwell_time_s: float = field(metadata=doc("t2 = t0 − th [s]"))
+    machine_cycle_time_s: float = field(metadata=doc("tm = t0 + ts [s]"))
+    displacement_deg: float = field(metadata=doc("h = 360/n or ψ [deg]"))
+    stops: float = field(metadata=doc("n (360/ψ for oscillating units, may be fractional)"))
+    indexing_angle_deg: float = field(metadata=doc("θh [deg]"))
+    total_indexing_angle_deg: float = field(metadata=doc("θt = θh·z [deg]"))
+    dwell_angle_deg: float = field(metadata=doc("input angle of one dwell, 360/z − θh [deg]"))
+    dwells: int = field(metadata=doc("z"))
+    speed_rpm: float = field(metadata=doc("N [rpm]"))
+    omega_rad_s: float = field(metadata=doc("largest |ω| [rad/s]"))
     omega_input_angle_deg: float
     omega_time_s: float
-    alpha_rad_s2: float = describe("largest |α| [rad/s²]")
-    alpha_pos_rad_s2: float = describe("largest α [rad/s²]")
+    alpha_rad_s2: float = field(metadata=doc("largest |α| [rad/s²]"))
+    alpha_pos_rad_s2: float = field(metadata=doc("largest α [rad/s²]"))
     alpha_pos_input_angle_deg: float
     alpha_pos_time_s: float
-    alpha_neg_rad_s2: float = describe("most negative α (signed) [rad/s²]")
+    alpha_neg_rad_s2: float = field(metadata=doc("most negative α (signed) [rad/s²]"))
     alpha_neg_input_angle_deg: float
     alpha_neg_time_s: float
-    jerk_rad_s3: float = describe("largest |jerk| [rad/s³]")
+    jerk_rad_s3: float = field(metadata=doc("largest |jerk| [rad/s³]"))
     jerk_pos_rad_s3: float
     jerk_pos_input_angle_deg: float
     jerk_pos_time_s: float
@@ -64,9 +64,9 @@ class MotionTable:
     the motion over input angle (independent of speed); the rest is over time.
     """
 
-    input_angle_deg: FloatArray = describe("from the start of the index [deg]")
-    time_s: FloatArray = describe("from the start of the index [s]")
-    output_angle_deg: FloatArray = describe("from the start position [deg]")
+    input_angle_deg: FloatArray = field(metadata=doc("from the start of the index [deg]"))
+    time_s: FloatArray = field(metadata=doc("from the start of the index [s]"))
+    output_angle_deg: FloatArray = field(metadata=doc("from the start position [deg]"))
     omega_rad_s: FloatArray
     alpha_rad_s2: FloatArray
     jerk_rad_s3: FloatArray
@@ -94,10 +94,10 @@ class IndexerPosition:
     """
 
     output_angle_deg: FloatArray
-    input_angle_deg: FloatArray = describe("θh·u [deg]")
-    time_s: FloatArray = describe("th·u [s]")
-    omega_rad_s: FloatArray = describe("(h/th)·V' [rad/s]")
-    alpha_rad_s2: FloatArray = describe("(h/th²)·A' [rad/s²]")
+    input_angle_deg: FloatArray = field(metadata=doc("θh·u [deg]"))
+    time_s: FloatArray = field(metadata=doc("th·u [s]"))
+    omega_rad_s: FloatArray = field(metadata=doc("(h/th)·V' [rad/s]"))
+    alpha_rad_s2: FloatArray = field(metadata=doc("(h/th²)·A' [rad/s²]"))
     t: FloatArray
     v: FloatArray
     a: FloatArray

@@ -20,8 +20,8 @@ from .._solvers import NoFeasiblePointError, periodic_grid_max, smallest_feasibl
 from ..curves.base import FloatArray
 from ..errors import GeometryError, InvalidParameterError
 from .cam import CamSpec, validate
-from .followers import FlatTranslating
 from .checks import check_grid, corners, profile_checks
+from .followers import FlatTranslating
 
 
 @dataclass(frozen=True)

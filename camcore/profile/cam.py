@@ -64,7 +64,6 @@ from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from ..curves.base import FloatArray
 from ..errors import GeometryError, InvalidParameterError

@@ -210,7 +210,7 @@ class CurveLift:
         t_breaks = np.asarray(curve.break_points, dtype=np.float64)
         tau = (t_breaks - curve.t_start) / (curve.t_end - curve.t_start)
         drive = scale.theta_start + span * tau
-        reps = int(round(periods))
+        reps = round(periods)
         cam = np.concatenate([np.radians((drive + k * span) * rotation_ratio) for k in range(reps)])
         self._breaks = np.unique(np.mod(cam, TWO_PI))
 
