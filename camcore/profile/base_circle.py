@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from typing import Literal
 
 import numpy as np
 
@@ -22,6 +23,8 @@ from ..errors import GeometryError, InvalidParameterError
 from .cam import CamSpec, validate
 from .checks import check_grid, corners, profile_checks
 from .followers import FlatTranslating
+
+Constraint = Literal["pressure_angle", "radius_of_curvature", "geometry"]
 
 
 @dataclass(frozen=True)
@@ -33,7 +36,7 @@ class BaseCircleResult:
     """
 
     base_radius_mm: float
-    active_constraint: str
+    active_constraint: Constraint
     max_pressure_angle_deg: float
     min_radius_of_curvature_mm: float
     radius_for_pressure_angle_mm: float | None
@@ -115,11 +118,12 @@ def size_base_circle(
                 return c.min_radius_of_curvature_mm - req if not c.undercut else -1.0 - abs(c.min_radius_of_curvature_mm)
 
             r_c = _solve_radius(spec, curvature_margin, "radius-of-curvature")
-    candidates = [(r, n) for r, n in ((r_p, "pressure_angle"), (r_c, "radius_of_curvature")) if r is not None]
+    active: Constraint = "geometry"
+    rb = max(model.min_base_radius_mm(), 1e-9)
+    limits: tuple[tuple[float | None, Constraint], ...] = ((r_p, "pressure_angle"), (r_c, "radius_of_curvature"))
+    candidates = [(r, n) for r, n in limits if r is not None]
     if candidates:
         rb, active = max(candidates)
-    else:
-        rb, active = max(model.min_base_radius_mm(), 1e-9), "geometry"
     final = replace(spec, base_radius_mm=rb)
     validate(final)
     ch = profile_checks(final)

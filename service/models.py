@@ -1,0 +1,36 @@
+"""Answer schemas derived from camcore's result classes (one definition per concept).
+
+camcore defines each result once, as a dataclass whose fields carry units in their names
+and descriptions in their metadata; :func:`answer_model` turns one into the Pydantic
+model the route declares, with exactly the fields :func:`camcore.results.as_dict`
+produces. Every field of an answer is always present, so every field is required
+(``None`` where the type allows it).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from pydantic import BaseModel, Field, create_model
+
+from camcore.results import answer_fields
+
+
+def answer_model(result_class: type, name: str, doc: str | None = None) -> type[BaseModel]:
+    """The Pydantic answer model of a camcore result dataclass.
+
+    Parameters
+    ----------
+    result_class : type
+        A camcore result dataclass.
+    name : str
+        The schema's name in the OpenAPI document (stable: generated clients use it).
+    doc : str, optional
+        The schema's description (default: the result class's docstring).
+    """
+    fields: dict[str, Any] = {}
+    for field_name, hint, description, _required in answer_fields(result_class):
+        fields[field_name] = (hint, Field(description=description))
+    model = create_model(name, __doc__=doc or result_class.__doc__, **fields)
+    model.__module__ = __name__
+    return model
