@@ -8,7 +8,7 @@ Only the common-constant and variable parts are ported; the per-curve parameter 
 curves there are just different T1..T6.
 
 Reference: H. Makino, "Universal Cam Curve and Its Application" (1977), appendix 1
-(../shared/reference/makino-1977-universal-cam-curve.ja.txt).
+(Makino (1977) in docs/sources.md).
 """
 
 from __future__ import annotations

@@ -6,7 +6,7 @@ Independent of camcore: nothing here imports it. Two sources are ported:
 1. Makino (1977), appendix 1, subroutine CURVE — a line-by-line port of the common
    constants (lines 75-124: C1..C7, the equal-area RATIO of line 86, AMP of lines 88-90,
    V1..V7, S1..S7) and of the variable part (lines 146-221: sections 401-407).
-   Break points of the table-2 curves are the MISSION.md table; its open values
+   Break points of the table-2 curves are those quoted in docs/sources.md; the open values
    (35: A, 45: B, 47: C, 49: D) are found here *numerically* (mp.findroot) from the
    defining condition "line-86 RATIO = stated m", not from camcore's closed forms.
    Curve 46 uses T5 = 0.625 (the copy's ".675" is flagged doubtful; 0.625 is the
@@ -18,7 +18,7 @@ Independent of camcore: nothing here imports it. Two sources are ported:
    prints Vb, a misprint) and TR; V, A, J by mpmath's numerical differentiation
    (mp.diffs) of each section's own analytic formula at 40 digits.
 
-Convention at break points (MISSION.md §1): the section that starts there (Fortran's
+Convention at break points (docs/api.md, Conventions): the section that starts there (Fortran's
 ``T.GE.Tk .AND. T.LT.Tk+1``); at T = T7 the last non-empty section (where the Fortran
 goes to section VIII, line 161, and prints A = J = 0 — the catalog tables do not).
 A float T that *is* a break point as a float (T = 0.6 for T4 = 0.6, whose exact value

@@ -1,4 +1,4 @@
-"""Specs and answers of /v1/indexers (API.md: IndexerSpec, LoadSpec)."""
+"""Specs and answers of /v1/indexers (docs/api.md: IndexerSpec, LoadSpec)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Specs and answers of /v1/profiles (API.md: ProfileSpec)."""
+"""Specs and answers of /v1/profiles (docs/api.md: ProfileSpec)."""
 
 from __future__ import annotations
 

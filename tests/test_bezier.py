@@ -1,6 +1,6 @@
 """BezierCurve: a lift h(θ) drawn with Bezier control points in the (θ [deg], h [mm]) plane.
 
-Sources: the reference document /work/shared/reference/bezier-valve-cam.ja.txt, eqs.
+Sources (docs/sources.md): valve-cam notes, "ベジエによるバルブカム設計", eqs.
 (1)-(3) (Bezier curve, V = (dh/ds)/(dθ/ds), A = (dV/ds)/(dθ/ds)); Farin, Curves and
 Surfaces for CAGD, ch. 4-5 (Bernstein form, derivative control points). The expected
 values of the hand-worked cases are derived in the comments from the Bernstein basis

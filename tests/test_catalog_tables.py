@@ -1,6 +1,6 @@
 """The INDEXMAN catalog curves against the catalog's own printed numbers.
 
-Source: INDEXMAN technical guide (``reference/indexman-technical-guide.zh.txt``),
+Source: INDEXMAN guide (docs/sources.md), the catalog's technical section 技术说明,
 section 5 "凸轮曲线":
 - the 0.01-step tables "凸轮曲线特性表" of MS, MC (MCV50), MCV25, MT and TR, copied to
   ``tests/data/indexman_<name>.csv`` (columns T, S, V, A, J, Q = A·V/Am; 101 rows each,
@@ -165,7 +165,7 @@ def test_characteristic_value_table(name: str) -> None:
 
 # --------------------------------------------------------------------------- closed forms
 # The catalog's own formulas (常数表达式 / 位移表达式), written out independently of
-# camcore. MCV25 uses the MC formulas with Ta = 3/32, Tb = 3/8 (T1 = T3/4, MISSION.md).
+# camcore. MCV25 uses the MC formulas with Ta = 3/32, Tb = 3/8 (T1 = T3/4, the MCV family).
 PI = math.pi
 
 

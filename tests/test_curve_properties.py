@@ -2,7 +2,7 @@
 convention at break points, and exact characteristic values.
 
 Sources: Makino (1977) fig. 1 and eqs. (2)-(9) (S and V continuous by construction,
-A continuous "全区間を通じて連続" for the standard curves); MISSION.md §1 (break-point
+A continuous "全区間を通じて連続" for the standard curves); docs/api.md, Conventions (break-point
 convention, one-dwell and no-dwell ends); INDEXMAN guide, MCV50 table (凸轮曲线特性表),
 rows T = 0.25, 0.75, 1.00.
 """
@@ -21,7 +21,7 @@ ALL = sorted(CATALOG)
 A_JUMPS_INSIDE = {"constant-acceleration"}
 #: curves whose A is not 0 at T0 and/or T7 (so A jumps against the dwell there):
 #: simple harmonic (12), the no-dwell curves (50-52), constant acceleration (11)
-#: at both ends; the one-dwell curves (43-49) at T7 only (A = −Amm, MISSION.md).
+#: at both ends; the one-dwell curves (43-49) at T7 only (A = −Amm: their break points, camcore/universal.py).
 A_NONZERO_START = {"simple-harmonic", "constant-acceleration", "no-dwell-simple-harmonic",
                    "no-dwell-modified-trapezoid", "no-dwell-modified-constant-velocity"}
 ONE_DWELL = {k for k, e in CATALOG.items() if e.family == "one-dwell"}
@@ -158,7 +158,7 @@ EXTREMA = [
 
 @pytest.mark.parametrize("name,curve", CURVES, ids=IDS)
 def test_characteristics_bound_dense_table_and_are_attained(name: str, curve: camcore.Curve) -> None:
-    """Exact characteristic values (MISSION.md §1): no sample of a dense table beyond them,
+    """Exact characteristic values (docs/api.md, characteristics): no sample of a dense table beyond them,
     each attained at its T (as a right or a left limit), and a dense table gets close."""
     ch = curve.characteristics
     bp = curve.break_points

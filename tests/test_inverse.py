@@ -1,6 +1,6 @@
 """Inverse lookup S → T: the exact method and the catalog's table method.
 
-Sources: MISSION.md §1 ("Inverse lookup"); INDEXMAN technical guide, 凸轮曲线特性表及其
+Sources: docs/api.md (POST /v1/curves/inverse); INDEXMAN guide, 凸轮曲线特性表及其
 使用方法, worked example (n = 6, θh = 270°, MS, 60 rpm, output at 11°).
 
 Conditioning: near a solution, dT = dS / V. S(T) in float64 carries an absolute error

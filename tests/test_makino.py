@@ -1,7 +1,7 @@
 """Makino's universal cam curve against the paper's printed numbers and equations.
 
 Source: H. Makino, "Universal Cam Curve and Its Application" (1977),
-``reference/makino-1977-universal-cam-curve.ja.txt``: eqs. (1)-(16), table 2,
+cited as Makino (1977) in docs/sources.md: eqs. (1)-(16), table 2,
 appendix 1 (subroutine CURVE, Fortran line numbers quoted), appendix 3-1 and 3-2
 (line-printer output of the example program, appendix 2).
 """
@@ -80,7 +80,7 @@ APPENDIX_3_2 = [
 
 #: Appendix 3-2, last row (T3 = 0.125, T1 = 0.01563): AM is printed 15.95308, the curve
 #: gives 13.95308 — every other digit agrees, so the leading "13" was misread/misprinted
-#: as "15" (MISSION.md, known misprints). It also breaks the table's own trend: AM falls
+#: as "15" (docs/sources.md, known misprints). It also breaks the table's own trend: AM falls
 #: roughly as 1/T3 (51.9, 26.6, 18.1 for T3 = 1/32, 2/32, 3/32, so ≈ 14 for 4/32).
 APPENDIX_3_2_MISPRINTS = {(4, 1, "AM"): 13.95308}
 
@@ -123,7 +123,7 @@ def test_trapecloid_2_eq_14() -> None:
 
 def test_trapecloid_2_eq_13_ocr_reading_is_out_of_order() -> None:
     """Eq. (13) as OCR'd reads T6 = T3 < T5: break points out of order, so that reading
-    cannot be the paper's (MISSION.md known misprints); T6 = T5 reproduces eq. (14)."""
+    cannot be the paper's (docs/sources.md, known misprints); T6 = T5 reproduces eq. (14)."""
     t1 = 0.125
     t2 = (2 - 6 * t1 + PI * t1) / (2 + PI)
     t3 = t2 + t1
@@ -228,7 +228,7 @@ def test_equal_area_rule_line_86(number: int) -> None:
 
 #: Table 2, 備考 column (m = Amm/Amp): 43 m = 1, 44 m = 2/3, 45 m = 1, 47 m = 2/3;
 #: 48/49 state T1 = 1/8 with m = 1 (modified sine and trapecloid are m = 1 curves);
-#: 33, 34 are Makino's asymmetric curves with m = 2/3 (MISSION.md table), 35 m = 1.
+#: 33, 34 are Makino's asymmetric curves with m = 2/3 (their quoted break points, docs/sources.md), 35 m = 1.
 STATED_M = {43: 1.0, 48: 1.0, 44: 2 / 3, 33: 2 / 3, 34: 2 / 3, 45: 1.0, 49: 1.0, 35: 1.0, 47: 2 / 3}
 
 

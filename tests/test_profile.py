@@ -3,9 +3,9 @@
 Sources
 -------
 [S] S. Shinzato, M. Kunigami, "Utilization of a Microcomputer in Mechanism Education (1):
-    Drawing and Calculation of Cam Pressure Angle" (1988), /work/shared/reference/
-    shinzato-1988-pressure-angle.ja.txt: eq. (6), table 1, program lists 1 and 2.
-[V] Bezier valve-cam document, /work/shared/reference/bezier-valve-cam.ja.txt:
+    Drawing and Calculation of Cam Pressure Angle" (1988), cited as Shinzato (1988)
+    in docs/sources.md: eq. (6), table 1, program lists 1 and 2.
+[V] Valve-cam notes, "ベジエによるバルブカム設計" (docs/sources.md):
     rotation ratio (eqs. 4, 5, 12), flat tappet contact offset (eq. 11), convexity test.
 Exact geometry (eccentric circle cams, hand-derived base-circle minima) is derived in the
 tests themselves.

@@ -20,7 +20,7 @@ points). :attr:`BezierCurve.scale` maps back to degrees and millimetres.
 
 References
 ----------
-.. [1] "ベジエによるバルブカム設計" (/work/shared/reference/bezier-valve-cam.ja.txt),
+.. [1] Valve-cam notes, "ベジエによるバルブカム設計" (docs/sources.md),
    eqs. (1)-(3): the Bezier lift curve and the chain rule for V and A.
 .. [2] G. Farin, Curves and Surfaces for CAGD, 5th ed., ch. 4-5 (de Casteljau,
    derivatives of a Bezier curve by forward differences).

@@ -312,8 +312,8 @@ ONE_DWELL_MT_C = 47 / 120 - 7 / (30 * PI)
 ONE_DWELL_TR_D = TRAPECLOID_A
 
 #: Makino table-2 break points T0..T7 (T0 = 0, T7 = 1). m is the stated ratio; None
-#: means m comes from equal areas (V7 = V0). Source: MISSION.md table quoting Makino's
-#: characteristic table, open values derived above.
+#: means m comes from equal areas (V7 = V0). Source: Makino's characteristic table (Makino
+#: (1976)) as quoted by a public implementation (docs/sources.md), open values derived above.
 MAKINO_BREAK_POINTS: dict[int, tuple[tuple[float, ...], float | None]] = {
     11: ((0, 0, 0.5, 0.5, 0.5, 0.5, 1, 1), None),
     12: ((0, 0, 0, 0.5, 0.5, 1, 1, 1), None),

@@ -105,7 +105,7 @@ class LoadPart:
 
 @dataclass(frozen=True, kw_only=True)
 class Load:
-    """What the output drives (field names as API.md ``LoadSpec``).
+    """What the output drives (field names as docs/api.md ``LoadSpec``).
 
     Parameters
     ----------

@@ -20,7 +20,7 @@ FloatArray = NDArray[np.float64]
 # --------------------------------------------------------------------------- results
 @dataclass(frozen=True)
 class MotionSummary:
-    """Times and exact peaks of one index (field names as in API.md, /v1/indexers/motion).
+    """Times and exact peaks of one index (field names as in docs/api.md, /v1/indexers/motion).
 
     Peaks come from the curve's closed-form characteristic values, not from a sampled
     table; ``*_input_angle_deg`` [deg] and ``*_time_s`` [s] say where (from the start of
@@ -87,7 +87,7 @@ class IndexerMotion:
 
 @dataclass(frozen=True)
 class IndexerPosition:
-    """Result of :meth:`Indexer.position` (field names as in API.md, /v1/indexers/position).
+    """Result of :meth:`Indexer.position` (field names as in docs/api.md, /v1/indexers/position).
 
     ``t``, ``v``, ``a`` are the curve's dimensionless T, V, A at each output angle (as
     found by the chosen method; for the table method they are interpolated).
@@ -111,7 +111,7 @@ class IndexerPosition:
 
 @dataclass(frozen=True)
 class Sizing:
-    """Result of :func:`size` (field names as in API.md, /v1/indexers/sizing).
+    """Result of :func:`size` (field names as in docs/api.md, /v1/indexers/sizing).
 
     Torques [N·m], power [kW], inertia [kg·m²], α [rad/s²]. ``input_torque_nm`` is the
     service-factored peak of |T_in| over the index (the larger of the driving peak

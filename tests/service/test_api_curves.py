@@ -1,4 +1,4 @@
-"""The v1 curve endpoints through httpx.ASGITransport (API.md, "Endpoints").
+"""The v1 curve endpoints through httpx.ASGITransport (docs/api.md, "Endpoints").
 
 Numbers are checked against camcore called directly (the service must give the same
 numbers as the library) and, where a source prints them, against the source.

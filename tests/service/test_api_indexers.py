@@ -1,4 +1,4 @@
-"""/v1/indexers through httpx.ASGITransport (API.md IndexerSpec, LoadSpec; INDEXMAN guide)."""
+"""/v1/indexers through httpx.ASGITransport (docs/api.md IndexerSpec, LoadSpec; INDEXMAN guide)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""/v1/profiles through httpx.ASGITransport (API.md ProfileSpec; Shinzato 1988; valve-cam notes)."""
+"""/v1/profiles through httpx.ASGITransport (docs/api.md ProfileSpec; Shinzato (1988); valve-cam notes)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The committed OpenAPI document and the operation ids (API.md, STYLE.md)."""
+"""The committed OpenAPI document and the operation ids (docs/api.md, "Operation ids")."""
 
 from __future__ import annotations
 
