@@ -21,7 +21,7 @@ ALL = sorted(CATALOG)
 A_JUMPS_INSIDE = {"constant-acceleration"}
 #: curves whose A is not 0 at T0 and/or T7 (so A jumps against the dwell there):
 #: simple harmonic (12), the no-dwell curves (50-52), constant acceleration (11)
-#: at both ends; the one-dwell curves (43-49) at T7 only (A = −Amm: their break points, camcore/universal.py).
+#: at both ends; the one-dwell curves (43-49) at T7 only (A = −Amm: their break points, camcore/curves/universal.py).
 A_NONZERO_START = {"simple-harmonic", "constant-acceleration", "no-dwell-simple-harmonic",
                    "no-dwell-modified-trapezoid", "no-dwell-modified-constant-velocity"}
 ONE_DWELL = {k for k, e in CATALOG.items() if e.family == "one-dwell"}

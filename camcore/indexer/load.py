@@ -2,7 +2,7 @@
 
 References
 ----------
-.. [1] INDEXMAN technical guide, section 6 (load inertia, friction torque μ·m·g·R).
+.. [1] INDEXMAN guide, 特性值说明 (B-27): size by the load torque on the output; it prints no load formulas.
 .. [2] Standard rigid-body moments of inertia and the parallel-axis (Steiner) rule.
 """
 
