@@ -111,3 +111,15 @@ def test_api_doc_covers_every_served_path() -> None:
     missing_row = [f"{op_id}: {m} {p}" for m, p, op_id in ops if f"| `{op_id}` | {m} `{p}` |" not in doc]
     assert not missing_entry, f"docs/api.md has no entry for: {missing_entry}"
     assert not missing_row, f"docs/api.md's operation-id table lacks: {missing_row}"
+
+
+def test_files_named_in_the_docs_exist() -> None:
+    # docs/sources.md says where each source is used, by file (and test) name: modules that move
+    # must take their citations along
+    named = set()
+    for doc in (API_DOC, ROOT / "docs" / "sources.md"):
+        text = doc.read_text(encoding="utf-8")
+        named |= set(re.findall(r"`((?:camcore|service|tests|scripts|bench)/[\w./]*?)(?:::\w+)?`", text))
+    assert len(named) > 20, named  # the pattern found the file names
+    missing = sorted(name for name in named if not (ROOT / name).exists())
+    assert not missing, f"docs name files that do not exist: {missing}"
