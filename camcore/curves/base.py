@@ -107,14 +107,17 @@ class PiecewiseCurve:
     # ---------------------------------------------------------------- geometry
     @property
     def t_start(self) -> float:
+        """T0, where the curve starts [-]."""
         return float(self.piece_starts[0])
 
     @property
     def n_pieces(self) -> int:
+        """Number of smooth pieces (non-empty sections) [-]."""
         return len(self.piece_starts)
 
     @cached_property
     def pieces(self) -> list[Piece]:
+        """The smooth pieces in order, each with its start and end T."""
         ends = np.append(self.piece_starts[1:], self.t_end)
         return [Piece(i, float(a), float(b)) for i, (a, b) in enumerate(zip(self.piece_starts, ends))]
 
@@ -146,18 +149,22 @@ class PiecewiseCurve:
 
     @property
     def s_start(self) -> float:
+        """S0, the displacement at T0 (right limit) [-]."""
         return self._ends[0][0]
 
     @property
     def s_end(self) -> float:
+        """S7, the displacement at T7 (left limit) [-]."""
         return self._ends[1][0]
 
     @property
     def v_start(self) -> float:
+        """V0, the velocity at T0 (right limit) [-]."""
         return self._ends[0][1]
 
     @property
     def v_end(self) -> float:
+        """V7, the velocity at T7 (left limit) [-]."""
         return self._ends[1][1]
 
     # ---------------------------------------------------------------- evaluation
@@ -170,6 +177,12 @@ class PiecewiseCurve:
             Dimensionless time T; any shape.
         order : int
             Highest derivative: 0 → [S], 3 → [S, V, A, J], 4 adds dJ/dT.
+
+        Returns
+        -------
+        list of ndarray
+            [S, V, A, J, dJ/dT][: order + 1], each shaped like ``t`` [-]; outside [T0, T7]
+            Makino's sections 0 and VIII (S0, V0 before T0; constant V7 after T7).
         """
         t_arr = np.asarray(t, dtype=np.float64)
         flat = t_arr.reshape(-1)

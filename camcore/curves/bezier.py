@@ -68,9 +68,20 @@ def bernstein_eval(coef: FloatArray, s: FloatArray) -> FloatArray:
     Parameters
     ----------
     coef : ndarray, shape (d + 1,)
-        Bernstein coefficients of a polynomial of degree d.
+        Bernstein coefficients of a polynomial of degree d [-] (camcore passes the
+        normalised θ or h of a Bezier lift; the result has the coefficients' unit).
     s : ndarray
         Parameter values [-], normally in [0, 1].
+
+    Returns
+    -------
+    ndarray
+        The polynomial at each s, shaped like ``s`` [-]; zeros when ``coef`` is empty.
+
+    References
+    ----------
+    G. Farin, Curves and Surfaces for CAGD, 5th ed., ch. 4 (de Casteljau's algorithm:
+    d passes of convex combinations, numerically stable for s in [0, 1]).
     """
     s = np.asarray(s, dtype=np.float64)
     if coef.size == 0:
@@ -94,11 +105,22 @@ def bernstein_derivatives(coef: FloatArray, s: FloatArray, order: int) -> list[F
     Parameters
     ----------
     coef : ndarray, shape (n + 1, ...)
-        Bernstein coefficients; trailing axes (e.g. θ and h side by side) are carried along.
+        Bernstein coefficients [-]; trailing axes (e.g. θ and h side by side) are carried along.
     s : ndarray, shape (m,)
         Parameter values [-].
     order : int
-        Highest derivative wanted; derivatives above n are zero.
+        Highest derivative wanted [-]; derivatives above n are zero.
+
+    Returns
+    -------
+    list of ndarray
+        [P, dP/ds, …, d^order P/ds^order], each of shape ``coef.shape[1:] + (m,)`` [-]
+        (the coefficients' unit per unit of s^k).
+
+    References
+    ----------
+    G. Farin, Curves and Surfaces for CAGD, 5th ed., §5.3 (derivatives of a Bezier curve
+    as forward differences of the control points) and ch. 4 (de Casteljau's algorithm).
     """
     if s.size > _CHUNK:
         # blocks that fit in cache: the n levels re-read the block n times
@@ -122,7 +144,23 @@ def bernstein_derivatives(coef: FloatArray, s: FloatArray, order: int) -> list[F
 def derivative_control_points(coef: FloatArray, order: int) -> FloatArray:
     """Bernstein coefficients of the ``order``-th derivative: n!/(n−k)! · Δ^k b.
 
-    Empty when the order exceeds the degree (the derivative is identically zero).
+    Parameters
+    ----------
+    coef : ndarray, shape (n + 1,)
+        Bernstein coefficients b_0..b_n of a polynomial of degree n [-].
+    order : int
+        k, the derivative's order (≥ 0) [-].
+
+    Returns
+    -------
+    ndarray, shape (n − k + 1,)
+        Coefficients of d^k P/ds^k in the Bernstein basis of degree n − k [-]; empty when
+        k exceeds n (the derivative is identically zero).
+
+    References
+    ----------
+    G. Farin, Curves and Surfaces for CAGD, 5th ed., §5.3 (derivatives of a Bezier curve
+    by forward differences).
     """
     degree = coef.size - 1
     if order > degree:
@@ -195,11 +233,26 @@ def _faa_di_bruno(x: list[FloatArray], y: list[FloatArray], order: int) -> list[
 
 
 def dimensional_values(curve: Curve, t: ArrayLike) -> dict[str, FloatArray]:
-    """A user curve's values in its own units, from its :class:`~camcore.curve.Scale`.
+    """A user curve's values in its own units, from its :class:`~camcore.curves.base.Scale`.
 
-    Returns ``theta`` [θ unit], ``h`` [h unit], ``dh_dtheta`` [h unit/θ unit],
-    ``d2h_dtheta2`` [h unit/θ unit²] and ``d3h_dtheta3`` [h unit/θ unit³] at the
-    dimensionless times t.
+    Parameters
+    ----------
+    curve : Curve
+        A curve with a ``scale`` (:class:`BezierCurve`, :class:`~camcore.curves.points.PointsCurve`).
+    t : array_like
+        Dimensionless times T [-].
+
+    Returns
+    -------
+    dict of str to ndarray
+        ``theta`` [θ unit], ``h`` [h unit], ``dh_dtheta`` [h unit/θ unit],
+        ``d2h_dtheta2`` [h unit/θ unit²] and ``d3h_dtheta3`` [h unit/θ unit³], each
+        shaped like ``t``; for a Bezier lift these are [deg], [mm], [mm/deg], [mm/deg²] and
+        [mm/deg³] (θ = θ0 + theta_span·T, h = h_min + h_span·S, dᵏh/dθᵏ = h_span/theta_spanᵏ·dᵏS/dTᵏ).
+
+    References
+    ----------
+    Bezier valve-cam notes, eqs. (1)-(3): lift h(θdr) and its derivatives by the chain rule.
     """
     scale: Scale = curve.scale  # type: ignore[attr-defined]
     t_arr = np.asarray(t, dtype=np.float64)

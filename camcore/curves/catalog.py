@@ -135,7 +135,25 @@ for _entry in _ENTRIES:
 def lookup(name: str) -> CatalogEntry:
     """The catalog entry for an id, alias or Makino number (case-insensitive).
 
-    Raises :class:`UnknownCurveError` listing close matches.
+    Parameters
+    ----------
+    name : str
+        An entry's id (``MS``), an alias (``modified-sine``) or Makino's number (``26``);
+        case, spaces, underscores, hyphens and slashes are ignored.
+
+    Returns
+    -------
+    CatalogEntry
+
+    Raises
+    ------
+    UnknownCurveError
+        No entry has this name; the error lists up to five close matches.
+
+    References
+    ----------
+    Makino (1977), table 2 (the classification numbers); INDEXMAN technical guide,
+    section 5 (the names MS, MC = MCV50, MCV25, MT, TR).
     """
     key = _key(str(name))
     if key in _INDEX:
@@ -153,5 +171,26 @@ def _build(entry_id: str) -> Curve:
 
 
 def named_curve(name: str) -> Curve:
-    """Build (once) the catalog curve with this id, alias or Makino number."""
+    """Build (once) the catalog curve with this id, alias or Makino number.
+
+    Parameters
+    ----------
+    name : str
+        As for :func:`lookup`.
+
+    Returns
+    -------
+    Curve
+        The entry's curve; built on first use and shared afterwards (curves are immutable).
+
+    Raises
+    ------
+    UnknownCurveError
+        No entry has this name.
+
+    References
+    ----------
+    Makino (1977), table 2 and subroutine CURVE; INDEXMAN technical guide, section 5
+    (MS = No. 26, MCV50 = No. 27, MCV25, MT = No. 25, TR = No. 35).
+    """
     return lookup(name).build()

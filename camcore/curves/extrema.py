@@ -59,6 +59,7 @@ def critical_points(curve: PiecewiseCurve, slopes: Callable[[list[FloatArray]], 
     Parameters
     ----------
     curve : PiecewiseCurve
+        The curve, evaluated piece by piece with its closed-form formulas.
     slopes : callable
         Maps [S, V, A, J, dJ/dT] at some times to the rows (one per function) of the
         functions' derivatives with respect to T.
@@ -66,10 +67,15 @@ def critical_points(curve: PiecewiseCurve, slopes: Callable[[list[FloatArray]], 
     Returns
     -------
     (ndarray, ndarray)
-        Candidate times and their pieces: each piece's two ends (one-sided limits) and
-        every interior root of every row, bracketed on a grid of all pieces at once and
-        refined by the Illinois method to machine precision. Evaluating a function at these
-        times with the returned pieces gives its exact extremes.
+        Candidate times T [-] and their pieces (indices) [-]: each piece's two ends
+        (one-sided limits) and every interior root of every row, bracketed on a grid of all
+        pieces at once and refined by the Illinois method to machine precision. Evaluating a
+        function at these times with the returned pieces gives its exact extremes.
+
+    References
+    ----------
+    Makino (1977), characteristic values Vm, Am, Jm, Qm taken section by section;
+    Dowell and Jarratt (1971), the Illinois method (:func:`camcore._solvers.illinois_roots`).
     """
     starts = curve.piece_starts
     ends = np.append(starts[1:], curve.t_end)
@@ -109,7 +115,29 @@ def critical_points(curve: PiecewiseCurve, slopes: Callable[[list[FloatArray]], 
 
 def peaks_of(curve: PiecewiseCurve, times: FloatArray, pieces: NDArray[np.intp], values: FloatArray
              ) -> tuple[Extremum, Extremum]:
-    """(max, min) of sampled values at candidate times; ties go to the earliest T."""
+    """(max, min) of values at candidate times; ties go to the earliest T.
+
+    Parameters
+    ----------
+    curve : PiecewiseCurve
+        The curve the candidates belong to; not used (the values come evaluated).
+    times : ndarray
+        Candidate times T, in any order [-].
+    pieces : ndarray of int
+        The piece of each candidate [-]; not used either.
+    values : ndarray
+        The function at each candidate [-] (any unit; the extremes keep it).
+
+    Returns
+    -------
+    (Extremum, Extremum)
+        The largest and the smallest value, each with the earliest T where it occurs.
+
+    References
+    ----------
+    Makino (1977), characteristic values (the first T of each peak, as his tables give it);
+    INDEXMAN technical guide, section 5, characteristic table.
+    """
     order = np.argsort(times, kind="stable")
     t_sorted, v_sorted = times[order], values[order]
     i_max, i_min = int(np.argmax(v_sorted)), int(np.argmin(v_sorted))
@@ -123,10 +151,12 @@ def characteristics(curve: PiecewiseCurve) -> Characteristics:
     Parameters
     ----------
     curve : PiecewiseCurve
+        The curve, evaluated with its closed-form formulas.
 
     Returns
     -------
     Characteristics
+        Peaks of S, V, A, J, A·V and Q = A·V/Am with the T of each (all dimensionless).
 
     References
     ----------

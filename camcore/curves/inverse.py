@@ -84,8 +84,25 @@ class InverseGrid:
 def dwell_order(values: list[float], peaks: list[float]) -> int:
     """Order (1..4) of the first derivative that is not zero; 4 if V, A, J all vanish.
 
-    ``values`` are V, A, J, dJ/dT at the end; a value below 1e-9 of its peak over the
-    curve (``peaks``, 0 = unknown) is rounding noise from the sections' sums.
+    Near the end S − S_end ≈ S⁽ᵏ⁾(T_end)·τᵏ/k! (Taylor), so k decides how T(S) behaves there.
+
+    Parameters
+    ----------
+    values : list of float
+        V, A, J, dJ/dT at the end [-].
+    peaks : list of float
+        Each derivative's peak |value| over the curve [-] (0 = unknown): a value below
+        1e-9 of its peak is rounding noise from the sections' sums.
+
+    Returns
+    -------
+    int
+        k [-]: 1 when V ≠ 0 (no dwell), else the order of the first non-zero derivative.
+
+    References
+    ----------
+    Makino (1977), eqs. (1)-(9): the sections whose end values are tested (a dwell end
+    has V = 0, a quarter-sine start also A = 0).
     """
     for k, (value, peak) in enumerate(zip(values, peaks), start=1):
         if abs(value) > 1e-9 * peak:
@@ -94,7 +111,30 @@ def dwell_order(values: list[float], peaks: list[float]) -> int:
 
 
 def build_grid(curve: PiecewiseCurve, ch: Characteristics, direction: int) -> InverseGrid:
-    """The start table of a curve's inverse (built once per curve, then cached by it)."""
+    """The start table of a curve's inverse (built once per curve, then cached by it).
+
+    Parameters
+    ----------
+    curve : PiecewiseCurve
+        A monotone curve.
+    ch : Characteristics
+        Its characteristic values (the peaks tell rounding noise from a non-zero end derivative).
+    direction : int
+        +1 for a rising curve, −1 for a falling one [-].
+
+    Returns
+    -------
+    InverseGrid
+        T at 4096 + 1 evenly spaced S levels (from :func:`~camcore.curves.stroke.robust_inverse`),
+        Hermite corrections per cell, the piece of each cell and the end tables at dwell ends.
+
+    References
+    ----------
+    INDEXMAN technical guide, worked example before the characteristic-value table (the S → T
+    lookup this table serves); C. de Boor, A Practical Guide to Splines (2001), ch. IV (cubic
+    Hermite interpolation: the start, with slopes dT/dS = 1/V, where V varies by less than a
+    factor 4 over a cell).
+    """
     i = np.arange(CELLS + 1)
     s_start, s_end = curve.s_start, curve.s_end
     levels = s_start + (s_end - s_start) * (i / CELLS)
@@ -154,6 +194,28 @@ def solve(curve: PiecewiseCurve, grid: InverseGrid, target: FloatArray) -> Float
     A first pass takes every target through one Newton step, block by block; most are
     then final. The rest (dwell-end cells, break points, S at the rounding noise) are
     gathered from all blocks and iterated together.
+
+    Parameters
+    ----------
+    curve : PiecewiseCurve
+        The monotone curve of ``grid``.
+    grid : InverseGrid
+        Its start table (:func:`build_grid`).
+    target : ndarray
+        Displacements S, one-dimensional, each on the stroke within rounding [-]
+        (:func:`~camcore.curves.stroke.validate_stroke`).
+
+    Returns
+    -------
+    ndarray
+        For each target the first T in [T0, T7] with S(T) = target [-], to a few ulp.
+
+    References
+    ----------
+    INDEXMAN technical guide, worked example before the characteristic-value table (S = 0.1833
+    on MS gives T = 0.304); W. H. Press et al., Numerical Recipes, 3rd ed., §9.4 (Newton's
+    method kept inside a bracket, bisecting when a step leaves it); Makino (1977), eqs. (1)-(9)
+    (the closed form that is iterated on).
     """
     result = np.empty_like(target)
     pending: list[_Targets] = []

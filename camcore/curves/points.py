@@ -94,6 +94,23 @@ def c2_spline_slopes(t: FloatArray, s: FloatArray) -> FloatArray:
         h_i m_{i−1} + 2 (h_{i−1} + h_i) m_i + h_{i−1} m_{i+1} = 3 (h_i δ_{i−1} + h_{i−1} δ_i)
     with h_i = t_{i+1} − t_i, δ_i = (s_{i+1} − s_i)/h_i; the end rows make the third
     derivative continuous at the second and the last-but-one knot (de Boor, ch. IV).
+
+    Parameters
+    ----------
+    t : ndarray
+        Knots, strictly increasing, ≥ 2 of them [-] (normalised T).
+    s : ndarray
+        Values at the knots [-] (normalised S).
+
+    Returns
+    -------
+    ndarray
+        The slope ds/dt at each knot [-].
+
+    References
+    ----------
+    C. de Boor, A Practical Guide to Splines (2001), ch. IV (the slope equations of the
+    cubic spline, not-a-knot end conditions).
     """
     h = np.diff(t)
     delta = np.diff(s) / h
@@ -126,6 +143,23 @@ def hermite_piece_is_monotone(alpha: FloatArray, beta: FloatArray) -> NDArray[np
 
     α = m_i/δ_i, β = m_{i+1}/δ_i for a piece with δ_i ≠ 0. Monotone iff α, β ≥ 0 and
     (α + β ≤ 2, or 2α + β ≤ 3, or α + 2β ≤ 3, or φ = α − (2α + β − 3)²/(3(α + β − 2)) ≥ 0).
+
+    Parameters
+    ----------
+    alpha : ndarray
+        α = m_i/δ_i of each piece, the left slope over the secant [-].
+    beta : ndarray
+        β = m_{i+1}/δ_i of each piece, the right slope over the secant [-].
+
+    Returns
+    -------
+    ndarray of bool
+        True where the piece is monotone.
+
+    References
+    ----------
+    F. N. Fritsch, R. E. Carlson, "Monotone piecewise cubic interpolation", SIAM J. Numer.
+    Anal. 17 (1980) 238-246: the monotonicity region in (α, β).
     """
     total = alpha + beta - 2.0
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -186,12 +220,30 @@ def monotone_limited_slopes(
     limited knot has ratios in [0, 3] on both sides and a failing piece has a ratio
     outside, so at most n passes are made.
 
+    Parameters
+    ----------
+    t : ndarray
+        Knots, strictly increasing [-].
+    s : ndarray
+        Values at the knots [-].
+    slopes : ndarray
+        Starting slopes ds/dt at the knots [-], e.g. :func:`c2_spline_slopes`.
+    limiter : {"fritsch-carlson", "fritsch-butland"}
+        The replacement slope: the starting slope cut into 0 ≤ m/δ ≤ 3 (Hyman's filter), or
+        the Fritsch–Butland weighted harmonic mean of the neighbouring secants.
+
     Returns
     -------
     slopes : ndarray
-        The final knot slopes.
+        The final knot slopes [-].
     limited : ndarray of int
-        Indices of the knots whose slope differs from the input slope.
+        Indices of the knots whose slope differs from the input slope [-].
+
+    References
+    ----------
+    Fritsch and Carlson (1980), the monotonicity test and the sufficient square 0 ≤ α, β ≤ 3;
+    Hyman (1983), limiting a spline's slopes into it; Fritsch and Butland (1984) with
+    Brodlie's weights, the harmonic-mean slopes.
     """
     h = np.diff(t)
     ds = np.diff(s)

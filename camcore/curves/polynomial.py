@@ -57,6 +57,29 @@ class PolynomialCurve(Curve):
 
 
 def named_polynomial(name: str) -> PolynomialCurve:
+    """A named polynomial law.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`NAMED_POLYNOMIALS`: ``constant-velocity`` (S = T), ``3-4-5``
+        (S = 10T³ − 15T⁴ + 6T⁵) or ``4-5-6-7`` (S = 35T⁴ − 84T⁵ + 70T⁶ − 20T⁷).
+
+    Returns
+    -------
+    PolynomialCurve
+        S(T) on [0, 1], rising from 0 to 1.
+
+    Raises
+    ------
+    KeyError
+        For any other name (the service offers only these names).
+
+    References
+    ----------
+    R. L. Norton, Cam Design and Manufacturing Handbook, ch. 3 (the 3-4-5 and 4-5-6-7
+    polynomials); H. Makino, 自動機械機構学 (1976), polynomial cam curves.
+    """
     return PolynomialCurve(NAMED_POLYNOMIALS[name])
 
 
@@ -66,8 +89,23 @@ def polynomial_from_boundary(start: Mapping[str, float | None], end: Mapping[str
     Parameters
     ----------
     start, end : mapping
-        Values of ``s`` (required), ``v``, ``a``, ``j`` at T = 0 and T = 1; a missing
-        or None entry is free. The degree is the number of conditions minus one.
+        Values of ``s`` (required), ``v``, ``a``, ``j`` at T = 0 and T = 1, dimensionless
+        [-]; a missing or None entry is free. The degree is the number of conditions minus one.
+
+    Returns
+    -------
+    PolynomialCurve
+        S(T) = Σ c_k T^k on [0, 1], the coefficients from the confluent Vandermonde system.
+
+    Raises
+    ------
+    InvalidParameterError
+        S missing at an end, or a non-finite condition.
+
+    References
+    ----------
+    R. L. Norton, Cam Design and Manufacturing Handbook, ch. 3 (polynomial laws from boundary
+    conditions; 3-4-5 is s, v, a given at both ends); H. Makino, 自動機械機構学 (1976).
     """
     rows: list[NDArray[np.float64]] = []
     rhs: list[float] = []

@@ -69,6 +69,21 @@ def half_angle_bases(half_angle: FloatArray) -> tuple[FloatArray, FloatArray]:
     (measured against mpmath in tests/test_sections.py), and r keeps its relative
     accuracy at small θ, where 1 − cos θ computed as a difference loses it. Near θ = π,
     u ≈ 1e16 and the formulas still give q ≈ 1/u, r = 1.
+
+    Parameters
+    ----------
+    half_angle : ndarray
+        θ/2, half the phase θ = ωτ of a sine section [rad] (θ from 0 up to π).
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        q = sin(θ)/2 and r = (1 − cos θ)/2 [-], shaped like ``half_angle``.
+
+    References
+    ----------
+    M. Abramowitz, I. A. Stegun, Handbook of Mathematical Functions (1964), §4.3 (the
+    tangent half-angle identities); Makino (1977), eqs. (1)-(9) (the sections evaluated).
     """
     u = np.tan(half_angle)
     u2 = u * u

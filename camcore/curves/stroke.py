@@ -22,7 +22,27 @@ _INVERSE_NODES = 1025
 
 
 def monotone_direction(curve: PiecewiseCurve, ch: Characteristics) -> int:
-    """+1 if S never decreases over [T0, T7], -1 if it never increases, 0 otherwise."""
+    """+1 if S never decreases over [T0, T7], -1 if it never increases, 0 otherwise.
+
+    Parameters
+    ----------
+    curve : PiecewiseCurve
+        The curve.
+    ch : Characteristics
+        Its characteristic values (the extremes of V decide).
+
+    Returns
+    -------
+    int
+        +1, −1 or 0 [-]; V within 1e-12 of its peak below (or above) zero counts as zero
+        (rounding at a dwell end).
+
+    References
+    ----------
+    Makino (1977), characteristic values (the extremes of V over the curve); INDEXMAN
+    technical guide, worked example before the characteristic-value table (an S → T lookup
+    needs S to determine T).
+    """
     # V may dip below zero by rounding at a dwell end; 1e-12 of the peak is rounding.
     slack = 1e-12 * max(ch.vm.value, 1.0)
     if curve.s_end >= curve.s_start and ch.v_min.value >= -slack:
@@ -33,7 +53,30 @@ def monotone_direction(curve: PiecewiseCurve, ch: Characteristics) -> int:
 
 
 def require_monotone(curve: PiecewiseCurve, ch: Characteristics) -> int:
-    """The monotone direction (+1 or −1), or :class:`NonMonotoneError`."""
+    """The monotone direction (+1 or −1), or :class:`NonMonotoneError`.
+
+    Parameters
+    ----------
+    curve : PiecewiseCurve
+        The curve.
+    ch : Characteristics
+        Its characteristic values (the extremes of V decide).
+
+    Returns
+    -------
+    int
+        +1 for a rising curve, −1 for a falling one [-].
+
+    Raises
+    ------
+    NonMonotoneError
+        S is not monotone over [T0, T7], or S7 = S0.
+
+    References
+    ----------
+    INDEXMAN technical guide, worked example before the characteristic-value table (the
+    inverse lookup, defined for a curve that only rises or only falls).
+    """
     direction = monotone_direction(curve, ch)
     if direction == 0 or curve.s_end == curve.s_start:
         raise NonMonotoneError(
@@ -44,14 +87,49 @@ def require_monotone(curve: PiecewiseCurve, ch: Characteristics) -> int:
 
 
 def stroke_tolerance(curve: PiecewiseCurve) -> float:
-    """Distance from an end of the stroke within which a target is that end."""
+    """Distance from an end of the stroke within which a target is that end.
+
+    Parameters
+    ----------
+    curve : PiecewiseCurve
+        The curve.
+
+    Returns
+    -------
+    float
+        8 ulp of max(|S0|, |S7|, 1) [-]: S(T7) is summed section by section and may miss
+        the nominal end by an ulp or two.
+
+    References
+    ----------
+    IEEE 754-2019 binary64 (the spacing of floating-point numbers, ``numpy.spacing``);
+    Makino (1977), eqs. (1)-(9) (S at the section starts, summed by exact integration).
+    """
     # S(T7) is summed section by section and may miss the nominal end by an ulp or two;
     # a target within a few ulps of an end is that end
     return 8 * float(np.spacing(max(abs(curve.s_start), abs(curve.s_end), 1.0)))
 
 
 def validate_stroke(curve: PiecewiseCurve, s: FloatArray) -> None:
-    """Raise StrokeRangeError, naming the first offender, if any s is off the stroke."""
+    """Raise StrokeRangeError, naming the first offender, if any s is off the stroke.
+
+    Parameters
+    ----------
+    curve : PiecewiseCurve
+        The curve.
+    s : ndarray
+        Displacements to look up [-]; NaN and infinities are off the stroke.
+
+    Raises
+    ------
+    StrokeRangeError
+        Some s lies outside [min(S0, S7), max(S0, S7)] by more than :func:`stroke_tolerance`.
+
+    References
+    ----------
+    INDEXMAN technical guide, worked example before the characteristic-value table (the
+    output angle is a fraction S of the index, 0 ≤ S ≤ 1).
+    """
     lo, hi = sorted((curve.s_start, curve.s_end))
     tol = stroke_tolerance(curve)
     if s.size and not (lo - tol <= s.min() and s.max() <= hi + tol):  # NaN fails both
@@ -66,7 +144,23 @@ def validate_stroke(curve: PiecewiseCurve, s: FloatArray) -> None:
 def clamp_to_stroke(curve: PiecewiseCurve, s: FloatArray) -> FloatArray:
     """Validated targets onto [S0, S7]; a target within rounding of an end is that end.
 
-    Returns s itself when no target is near an end (two reductions, no copy).
+    Parameters
+    ----------
+    curve : PiecewiseCurve
+        The curve.
+    s : ndarray
+        Displacements already accepted by :func:`validate_stroke` [-].
+
+    Returns
+    -------
+    ndarray
+        The targets clipped onto the stroke, those within :func:`stroke_tolerance` of an end
+        set to that end [-]; ``s`` itself when no target is near an end (two reductions, no copy).
+
+    References
+    ----------
+    IEEE 754-2019 binary64 (targets within a few ulp of an end are that end); INDEXMAN
+    technical guide, worked example before the characteristic-value table.
     """
     lo, hi = sorted((curve.s_start, curve.s_end))
     tol = stroke_tolerance(curve)
@@ -85,6 +179,25 @@ def robust_inverse(curve: PiecewiseCurve, target: FloatArray, direction: int) ->
 
     Robust and slow (a binary search and a bracketed Newton iteration per target): it
     builds the start tables of the fast inverse (:mod:`.inverse`).
+
+    Parameters
+    ----------
+    curve : PiecewiseCurve
+        A monotone curve.
+    target : ndarray
+        Displacements S, flat and on the stroke [-].
+    direction : int
+        +1 for a rising curve, −1 for a falling one [-].
+
+    Returns
+    -------
+    ndarray
+        The first T with S(T) = target, one per target [-].
+
+    References
+    ----------
+    W. H. Press et al., Numerical Recipes, 3rd ed., §9.4 (Newton's method safeguarded by
+    bisection); INDEXMAN technical guide, worked example before the characteristic-value table.
     """
     grid = np.linspace(curve.t_start, curve.t_end, _INVERSE_NODES)
     t_nodes = np.unique(np.concatenate([grid, curve.break_points]))
@@ -115,14 +228,15 @@ def inverse_table(curve: PiecewiseCurve, values: CurveValues, s: ArrayLike, dire
     Parameters
     ----------
     curve : PiecewiseCurve
+        The curve whose table it is (its stroke bounds the targets).
     values : CurveValues
         The table's rows (T increasing).
     s : array_like
-        Displacements to look up (on the stroke).
+        Displacements to look up, on the stroke [-].
     direction : int
-        The curve's monotone direction (+1 rising, −1 falling).
+        The curve's monotone direction (+1 rising, −1 falling) [-].
     decimals : int, optional
-        Round the table to this many decimals first, as printed (the catalog prints 5).
+        Round the table to this many decimals first, as printed (the catalog prints 5) [-].
 
     Returns
     -------
@@ -160,7 +274,24 @@ def inverse_table(curve: PiecewiseCurve, values: CurveValues, s: ArrayLike, dire
 
 
 def table_rows(curve: PiecewiseCurve, step: float) -> FloatArray:
-    """T = T0, T0 + step, …, T7 (the last row at T7): the rows of a catalog table."""
+    """T = T0, T0 + step, …, T7 (the last row at T7): the rows of a catalog table.
+
+    Parameters
+    ----------
+    curve : PiecewiseCurve
+        The curve.
+    step : float
+        Row spacing in T (> 0) [-]; the catalog's tables use 0.01.
+
+    Returns
+    -------
+    ndarray
+        The rows' T [-]; a last, shorter step ends exactly at T7.
+
+    References
+    ----------
+    INDEXMAN technical guide, section 5 (the curve tables in steps of 0.01).
+    """
     n = int(np.floor((curve.t_end - curve.t_start) / step + 1e-9))
     t_rows = curve.t_start + step * np.arange(n + 1)
     if t_rows[-1] < curve.t_end - 1e-12 * step:

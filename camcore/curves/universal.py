@@ -39,7 +39,30 @@ MIN_SECTION = 1e-9
 
 
 def check_break_points(t: Sequence[float]) -> tuple[float, ...]:
-    """Validate eight break points T0..T7 and return them as floats."""
+    """Validate eight break points T0..T7 and return them as floats.
+
+    A section shorter than 1e-9 of T7 − T0 (rounding noise, e.g. T1 = T3 − 1 ulp) is merged
+    into its start point, so that its jerk ~ A/length cannot overflow; T7 itself is kept.
+
+    Parameters
+    ----------
+    t : sequence of float
+        Break points T0 ≤ T1 ≤ … ≤ T7, finite, T7 > T0 [-].
+
+    Returns
+    -------
+    tuple of float
+        The eight break points [-], with vanishing sections merged.
+
+    Raises
+    ------
+    InvalidBreakPointsError
+        Not eight points, not finite, out of order, or T7 = T0.
+
+    References
+    ----------
+    Makino (1977), fig. 1 and eqs. (1)-(9): the eight break points of the universal curve.
+    """
     if len(t) != 8:
         raise InvalidBreakPointsError(f"the universal curve needs 8 break points T0..T7, got {len(t)}.")
     pts = tuple(float(x) for x in t)
@@ -165,15 +188,19 @@ def universal_curve(
     Parameters
     ----------
     t : sequence of 8 floats
-        Break points T0 ≤ … ≤ T7 [dimensionless time].
+        Break points T0 ≤ … ≤ T7 [-] (dimensionless time).
     m : float, optional
-        Ratio Amm/Amp. Given, Amp follows from eq. (11) and V7 is whatever results.
+        Ratio Amm/Amp [-]. Given, Amp follows from eq. (11) and V7 is whatever results.
         Omitted, Amp and Amm are solved so that the curve ends at both S7 and V7.
     v0, v7 : float
-        Velocity at T0 and (when m is omitted) at T7; v7 defaults to v0, which is
+        Velocity at T0 and (when m is omitted) at T7 [-]; v7 defaults to v0, which is
         Makino's equal-area rule (Fortran line 86).
     s0, s7 : float
-        Displacement at T0 and at T7.
+        Displacement at T0 and at T7 [-].
+
+    Returns
+    -------
+    UniversalCurve
 
     Raises
     ------
@@ -181,6 +208,11 @@ def universal_curve(
         Break points out of order or not finite.
     StrokeClosureError
         No amplitude reaches S7 (and V7) with these break points.
+
+    References
+    ----------
+    Makino (1977), eqs. (1)-(11) (sections, m = Amm/Amp, Amp from eq. 11) and subroutine
+    CURVE, line 86 (the equal-area ratio for V7 = V0).
     """
     pts = check_break_points(t)
     v0 = finite("V0", v0)
@@ -230,6 +262,14 @@ def rapid_feed(z: float) -> UniversalCurve:
     ----------
     z : float
         Deceleration period over acceleration period, 0 < z ≤ 1 [-].
+
+    Returns
+    -------
+    UniversalCurve
+
+    References
+    ----------
+    Makino (1977), §5.3, eqs. (15)-(16); subroutine CURVE, lines 30-41.
     """
     z = finite("z", z)
     if not 0 < z <= 1:
@@ -250,6 +290,14 @@ def cutting_feed(t4: float) -> UniversalCurve:
     ----------
     t4 : float
         End of the constant-velocity stretch, 0 ≤ T4 < 1 [-].
+
+    Returns
+    -------
+    UniversalCurve
+
+    References
+    ----------
+    Makino (1977), §5.3; subroutine CURVE, lines 42-55.
     """
     t4 = finite("T4", t4)
     if not 0 <= t4 < 1:
@@ -271,6 +319,15 @@ def modified_constant_velocity(t1: float, t3: float) -> UniversalCurve:
         End of the first quarter-sine, 0 < T1 ≤ T3 [-].
     t3 : float
         Start of the constant velocity, T3 ≤ 0.5 [-].
+
+    Returns
+    -------
+    UniversalCurve
+
+    References
+    ----------
+    Makino (1977), §5.1; subroutine CURVE, lines 56-65; INDEXMAN technical guide, section 5
+    (MCV25: T1 = 3/32, T3 = 3/8).
     """
     t1 = finite("T1", t1)
     t3 = finite("T3", t3)
@@ -287,6 +344,20 @@ def trapecloid_2(t1: float = 0.125) -> UniversalCurve:
     empty) is the reading that gives the printed eq. (14) values Vm = 1.85,
     Am = 5.22, Jm = 65.6, Qmp = 7.75, Qmm = −5.34 (checked in the tests). The T2
     formula makes Amp = Amm, whatever T5 is, as long as section VI is empty.
+
+    Parameters
+    ----------
+    t1 : float
+        Length T1 of the quarter-sine sections [-] (default 1/8; the caller checks the range,
+        see :data:`MAKINO_SPECIAL`).
+
+    Returns
+    -------
+    UniversalCurve
+
+    References
+    ----------
+    Makino (1977), §5.2, eqs. (13)-(14) (curve 36, trapecloid II).
     """
     t2 = (2 - 6 * t1 + PI * t1) / (2 + PI)
     t3 = t2 + t1
@@ -378,11 +449,11 @@ def makino_curve(number: int, **params: float | None) -> UniversalCurve:
     Parameters
     ----------
     number : int
-        Makino's classification number: a table-2 curve (no parameters) or a special
+        Makino's classification number [-]: a table-2 curve (no parameters) or a special
         curve of :data:`MAKINO_SPECIAL`: 1 (``z``), 2 (``t4``), 4 (``t1``, ``t3``),
         36 (``t1``, default 1/8).
     **params : float or None
-        The special curve's parameters; None means not given.
+        The special curve's parameters [-] (dimensionless times and ratios); None means not given.
 
     Returns
     -------
