@@ -41,6 +41,32 @@ def contour_csv(
     """CSV text with a header: ``cam_angle_deg,x_mm,y_mm`` (``,z_mm`` = 0 with ``with_z``).
 
     Full float precision (``repr``), ``.`` as decimal mark, ``\\n`` line ends.
+
+    Parameters
+    ----------
+    x, y : array_like
+        Contour points in the cam's frame, same length, at least 2, finite [mm].
+    cam_angle_deg : array_like, optional
+        Cam angle of each point [deg]; written as the first column when given.
+    with_z : bool
+        Add a ``z_mm`` column of zeros (for CAD imports that want three coordinates).
+
+    Returns
+    -------
+    str
+        The CSV text, one row per point (a repeated closing point is kept).
+
+    Raises
+    ------
+    InvalidParameterError
+        Mismatched lengths, fewer than 2 points, non-finite coordinates, or a
+        ``cam_angle_deg`` of another length.
+
+    References
+    ----------
+    RFC 4180, "Common Format and MIME Type for Comma-Separated Values (CSV) Files" (header
+    row, comma separators); Python documentation, ``repr`` of a float (the shortest string
+    that reads back to the same float).
     """
     px, py = _xy(x, y)
     cols: list[tuple[str, Sequence[float]]] = []
@@ -60,7 +86,31 @@ def contour_csv(
 
 def contour_xyz(x: ArrayLike, y: ArrayLike, close: bool = True) -> str:
     """Plain "X Y Z" lines (space separated, z = 0, no header) for CAD "curve through
-    points" import. With ``close`` the first point is repeated at the end (once)."""
+    points" import. With ``close`` the first point is repeated at the end (once).
+
+    Parameters
+    ----------
+    x, y : array_like
+        Contour points in the cam's frame, same length, at least 2, finite [mm]; a repeated
+        closing point is dropped first.
+    close : bool
+        Repeat the first point at the end, so the imported curve closes.
+
+    Returns
+    -------
+    str
+        One ``x y 0.0`` line per point, full float precision (``repr``).
+
+    Raises
+    ------
+    InvalidParameterError
+        Mismatched lengths, fewer than 2 points or non-finite coordinates.
+
+    References
+    ----------
+    Python documentation, ``repr`` of a float (shortest round-tripping string); the plain
+    "X Y Z" text read by CAD "curve through XYZ points" imports (one point per line, no header).
+    """
     px, py = _open(*_xy(x, y))
     if close:
         px, py = np.append(px, px[0]), np.append(py, py[0])
@@ -76,7 +126,37 @@ def contour_dxf(
 ) -> bytes:
     """DXF R2010 drawing in millimetres: a closed LWPOLYLINE through the contour points,
     optionally a closed SPLINE through the same fit points (layer ``<layer>_SPLINE``) and
-    the base circle (layer ``<layer>_BASE``). Returns the file's bytes (UTF-8 text)."""
+    the base circle (layer ``<layer>_BASE``).
+
+    Parameters
+    ----------
+    x, y : array_like
+        Contour points in the cam's frame, same length, at least 2, finite [mm]; a repeated
+        closing point is dropped (the polyline is closed by its flag).
+    spline : bool
+        Also write a closed SPLINE through the same points as fit points.
+    layer : str
+        Layer of the polyline; the spline and the base circle go on ``<layer>_SPLINE`` and
+        ``<layer>_BASE``.
+    base_radius_mm : float, optional
+        Radius of a base circle about the cam centre to draw [mm]; none when omitted.
+
+    Returns
+    -------
+    bytes
+        The DXF file (UTF-8 text), units millimetres ($INSUNITS = 4, $MEASUREMENT = 1).
+
+    Raises
+    ------
+    InvalidParameterError
+        Mismatched lengths, fewer than 2 points or non-finite coordinates.
+
+    References
+    ----------
+    Autodesk, DXF Reference (AutoCAD 2010): LWPOLYLINE (closed flag 70 = 1), SPLINE (fit
+    points), CIRCLE, header variables $INSUNITS and $MEASUREMENT; ezdxf documentation:
+    ``ezdxf.new``, ``Modelspace.add_lwpolyline``, ``add_spline``, ``add_circle``.
+    """
     import ezdxf
     from ezdxf import units
 

@@ -33,7 +33,22 @@ class Extremum:
 
 def doc(text: str) -> dict[str, str]:
     """Field metadata with a description for the answer schema:
-    ``name: float = field(metadata=doc("..."))``."""
+    ``name: float = field(metadata=doc("..."))``.
+
+    Parameters
+    ----------
+    text : str
+        The field's description, with its unit in brackets where it has one.
+
+    Returns
+    -------
+    dict of str to str
+        ``{"description": text}``, read back by :func:`answer_fields`.
+
+    References
+    ----------
+    docs/architecture.md, one model per concept (core results are the models the service serves).
+    """
     return {"description": text}
 
 
@@ -50,7 +65,23 @@ def _plain(value: Any) -> Any:
 
 
 def as_dict(result: Any) -> dict[str, Any]:
-    """A result dataclass as JSON-ready plain values (see the module docstring)."""
+    """A result dataclass as JSON-ready plain values (see the module docstring).
+
+    Parameters
+    ----------
+    result : dataclass instance
+        A core result (fields with ``metadata={"internal": True}`` are left out).
+
+    Returns
+    -------
+    dict of str to Any
+        Field name to plain value: an :class:`Extremum` ``x`` becomes ``x`` and ``t_x``,
+        arrays and tuples become lists, numpy scalars Python numbers, nested results dicts.
+
+    References
+    ----------
+    docs/architecture.md, one model per concept (core results are the models the service serves).
+    """
     out: dict[str, Any] = {}
     for f in dataclasses.fields(result):
         if f.metadata.get("internal"):
@@ -65,7 +96,22 @@ def as_dict(result: Any) -> dict[str, Any]:
 
 
 def table_columns(result: Any) -> dict[str, Any]:
-    """The array fields of a table result, by name (internal fields left out)."""
+    """The array fields of a table result, by name (internal fields left out).
+
+    Parameters
+    ----------
+    result : dataclass instance
+        A table result (its fields are the table's columns).
+
+    Returns
+    -------
+    dict of str to Any
+        Field name to value, as stored (arrays stay arrays), in field order.
+
+    References
+    ----------
+    docs/architecture.md, one model per concept (core results are the models the service serves).
+    """
     return {f.name: getattr(result, f.name) for f in dataclasses.fields(result)
             if not f.metadata.get("internal")}
 
@@ -75,6 +121,21 @@ def answer_fields(cls: type) -> list[tuple[str, Any, str | None, bool]]:
 
     The types are the dataclass's own annotations with :class:`Extremum` expanded into
     two floats and tuples into lists: what :func:`as_dict` produces.
+
+    Parameters
+    ----------
+    cls : type
+        A result dataclass.
+
+    Returns
+    -------
+    list of tuple
+        (name, Python type, description or None, required) per plain field, in the order
+        :func:`as_dict` writes them.
+
+    References
+    ----------
+    docs/architecture.md, one model per concept (core results are the models the service serves).
     """
     hints = typing.get_type_hints(cls)
     out: list[tuple[str, Any, str | None, bool]] = []

@@ -230,6 +230,7 @@ class Indexer:
     # ------------------------------------------------------------ curve scaling
     @property
     def spans(self) -> tuple[float, float]:
+        """ΔT = T7 − T0 and ΔS = S(T7) − S(T0) of the curve [-] (1 and 1 for catalog curves)."""
         c = self.curve
         return c.t_end - c.t_start, c.s_end - c.s_start
 
@@ -242,10 +243,12 @@ class Indexer:
         return h / th * d_t / d_s, h / th**2 * d_t**2 / d_s, h / th**3 * d_t**3 / d_s
 
     def angle_of_t(self, t: Any) -> Any:
+        """Input angle θ = θh·(T − T0)/ΔT at the curve's times T [deg]."""
         d_t, _ = self.spans
         return self.indexing_angle_deg * (np.asarray(t, dtype=np.float64) - self.curve.t_start) / d_t
 
     def time_of_t(self, t: Any) -> Any:
+        """Time th·(T − T0)/ΔT from the start of the index at the curve's times T [s]."""
         d_t, _ = self.spans
         return self.indexing_time_s * (np.asarray(t, dtype=np.float64) - self.curve.t_start) / d_t
 
@@ -363,7 +366,12 @@ class Indexer:
         Parameters
         ----------
         samples : int
-            Number of rows (≥ 2), both ends of the index included.
+            Number of rows (≥ 2), both ends of the index included [-].
+
+        Returns
+        -------
+        IndexerMotion
+            :meth:`summary` and :meth:`motion_at` of the rows.
         """
         n = count("samples", samples)
         if n < 2:

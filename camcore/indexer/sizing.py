@@ -47,7 +47,9 @@ def size(
     Parameters
     ----------
     indexer : Indexer
+        The indexer: curve, angles and speed.
     load : Load
+        What the output drives: inertia, friction, work torque, service factor, efficiency.
     accuracy_arc_seconds, accuracy_radius_mm : float, optional
         If both are given, ``accuracy_mm`` = :func:`accuracy_mm` of them [arcsec, mm].
 
