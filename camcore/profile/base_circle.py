@@ -77,6 +77,36 @@ def size_base_circle(
     is the larger radius. For translating followers the pressure angle tan φ = (s' − σe)/(s0 + s)
     falls monotonically as Rb grows; the flat-faced translating case is closed form,
     Rb = ρreq − min(s + s'').
+
+    Parameters
+    ----------
+    spec : CamSpec
+        The cam; its base radius is only the starting guess.
+    max_pressure_angle_deg : float, optional
+        Limit of the largest |pressure angle| over the turn, 0 < limit < 90 [deg]; ignored
+        for flat-faced followers (their pressure angle is 0).
+    min_radius_of_curvature_mm : float, optional
+        Limit of the smallest radius of curvature of the cam surface, ≥ 0 [mm].
+
+    Returns
+    -------
+    BaseCircleResult
+        The radius, the limit that decided it, the checks at that radius and the radius
+        each limit alone would need.
+
+    Raises
+    ------
+    InvalidParameterError
+        No limit, or a limit out of range.
+    GeometryError
+        The lift has a corner (a curvature limit cannot be met), or no radius up to the
+        largest tried meets a limit.
+
+    References
+    ----------
+    Shinzato and Kunigami (1988), eq. (6), and the offset form tan φ = (s' − σe)/(s0 + s);
+    Bezier valve-cam notes, eq. (11) (flat tappet: ρ = Rb + s + s'' > 0); Dowell and Jarratt
+    (1971), the Illinois method.
     """
     model = spec.model
     if max_pressure_angle_deg is not None and not (0 < max_pressure_angle_deg < 90):

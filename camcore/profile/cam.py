@@ -105,7 +105,39 @@ def make_cam(
     rotation: Literal["ccw", "cw"] = "ccw",
     rotation_ratio: float = 1.0,
 ) -> CamSpec:
-    """Build and validate a :class:`CamSpec` from segments or one user lift curve."""
+    """Build and validate a :class:`CamSpec` from segments or one user lift curve.
+
+    Parameters
+    ----------
+    follower : Follower
+        Type, motion and dimensions of the follower.
+    base_radius_mm : float
+        Rb, the smallest radius of the cam surface (> 0) [mm].
+    segments : sequence of Segment, optional
+        Rise / dwell / return segments over one cam turn (their angles add to 360°).
+    lift_curve : Curve, optional
+        One user lift curve over the drive angle (a Bezier or points curve with a scale).
+        Give exactly one of ``segments`` and ``lift_curve``.
+    rotation : {"ccw", "cw"}
+        Sense of the cam's rotation.
+    rotation_ratio : float
+        γ, cam turns per drive turn (user lift curves only) [-].
+
+    Returns
+    -------
+    CamSpec
+        The cam, its lift in mm (translating followers) or degrees of swing (oscillating).
+
+    Raises
+    ------
+    InvalidParameterError, GeometryError
+        As :func:`validate`, or both or neither of ``segments`` and ``lift_curve``.
+
+    References
+    ----------
+    Bezier valve-cam notes, eqs. (4)-(5) and (12) (rotation ratio γ = ω_cam/ω_dr,
+    θcam = γ·θdr); Makino (1977), subroutine CURVE (INIT = 2: the return strokes).
+    """
     unit = "deg" if follower.motion == "oscillating" else "mm"
     if (segments is None) == (lift_curve is None):
         raise InvalidParameterError("Give the lift either as segments or as one lift curve, not both.")
@@ -118,9 +150,25 @@ def make_cam(
 def validate(spec: CamSpec) -> None:
     """Raise :class:`GeometryError` / :class:`InvalidParameterError` with the reason.
 
+    Checks the rotation, Rb > 0, a roller radius > 0 for rollers, the follower's assembly
+    (:meth:`FollowerModel.check`), a finite lift ≥ 0 on a 0.5° grid and the arm's swing.
+
     Parameters
     ----------
     spec : CamSpec
+        The cam: follower, base radius, rotation and lift.
+
+    Raises
+    ------
+    GeometryError
+        The cam cannot be assembled or run.
+    InvalidParameterError
+        A value out of its range.
+
+    References
+    ----------
+    Shinzato and Kunigami (1988): the lift measured from the base circle, l = y + D/2
+    (so the lift must be ≥ 0).
     """
     model = spec.model
     f = spec.follower
@@ -145,11 +193,47 @@ def validate(spec: CamSpec) -> None:
 
 
 def kinematics(spec: CamSpec, theta: FloatArray) -> Kinematics:
-    """Fixed-frame kinematics of the cam at cam angles θ [rad] (see :mod:`.followers`)."""
+    """Fixed-frame kinematics of the cam at cam angles θ [rad] (see :mod:`.followers`).
+
+    Parameters
+    ----------
+    spec : CamSpec
+        The cam: follower, base radius, rotation and lift.
+    theta : ndarray
+        Cam angles θ [rad].
+
+    Returns
+    -------
+    Kinematics
+        Contact and pitch points, pressure angle and curvatures in the fixed frame.
+
+    References
+    ----------
+    Shinzato and Kunigami (1988), eq. (6) (pressure angle of the in-line knife-edge);
+    Bezier valve-cam notes, eqs. (11)-(12) (flat tappet contact offset, rotation ratio).
+    """
     return spec.model.kinematics(spec.base_radius_mm, spec.sigma, theta, spec.lift.derivatives(theta, 2))
 
 
 def rotate(x: FloatArray, y: FloatArray, ang: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """(x, y) turned by the angles ang [rad]."""
+    """(x, y) turned by the angles ang [rad].
+
+    Parameters
+    ----------
+    x, y : ndarray
+        Points [mm].
+    ang : ndarray
+        Angles of rotation, counter-clockwise positive [rad].
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        x cos a − y sin a and x sin a + y cos a [mm].
+
+    References
+    ----------
+    Shinzato and Kunigami (1988): the contour x = l cos θ, y = l sin θ in the cam's frame
+    (kinematic inversion: the fixed-frame point turned back by the cam angle).
+    """
     c, s = np.cos(ang), np.sin(ang)
     return c * x - s * y, s * x + c * y

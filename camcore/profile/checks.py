@@ -57,7 +57,26 @@ class ProfileChecks:
 
 # ---------------------------------------------------------------- exact extremes
 def check_grid(spec: CamSpec, n: int = CHECK_GRID) -> FloatArray:
-    """A fine grid over [0, 2π) with every break point and its left neighbour."""
+    """A fine grid over [0, 2π) with every break point and its left neighbour.
+
+    Parameters
+    ----------
+    spec : CamSpec
+        The cam: follower, base radius, rotation and lift.
+    n : int
+        Evenly spaced points before the break points are added [-].
+
+    Returns
+    -------
+    ndarray
+        Sorted, distinct cam angles [rad]: no jump of the lift's derivatives lies strictly
+        between neighbours, so a golden-section refinement between them sees a smooth function.
+
+    References
+    ----------
+    J. Kiefer, "Sequential minimax search for a maximum", Proc. AMS 4 (1953) 502-506
+    (golden-section search, which needs a unimodal function between the grid points).
+    """
     base = np.linspace(0.0, TWO_PI, n, endpoint=False)
     br = np.asarray(spec.lift.breaks_rad, dtype=np.float64)
     left = np.mod(br - 1e-10, TWO_PI)
@@ -65,7 +84,23 @@ def check_grid(spec: CamSpec, n: int = CHECK_GRID) -> FloatArray:
 
 
 def corners(spec: CamSpec) -> list[float]:
-    """Cam angles where the lift's velocity jumps (the surface has a corner there) [deg]."""
+    """Cam angles where the lift's velocity jumps (the surface has a corner there) [deg].
+
+    Parameters
+    ----------
+    spec : CamSpec
+        The cam: follower, base radius, rotation and lift.
+
+    Returns
+    -------
+    list of float
+        The break points where dh/dθ jumps by more than 1e-6 of max(1, its largest |value|) [deg].
+
+    References
+    ----------
+    Bezier valve-cam notes, convexity test (a corner fails it); Makino (1977), eqs. (1)-(9)
+    (the break points where a curve's derivatives may jump).
+    """
     br = np.asarray(spec.lift.breaks_rad, dtype=np.float64)
     if br.size == 0:
         return []
@@ -88,6 +123,7 @@ def profile_checks(spec: CamSpec) -> ProfileChecks:
     Parameters
     ----------
     spec : CamSpec
+        The cam: follower, base radius, rotation and lift.
 
     Returns
     -------

@@ -65,7 +65,25 @@ class ProfileResult:
 
 
 def contour(spec: CamSpec, cam_angle_deg: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """Cam surface (x, y) and pitch curve (x, y) in the cam frame at these cam angles."""
+    """Cam surface (x, y) and pitch curve (x, y) in the cam frame at these cam angles.
+
+    Parameters
+    ----------
+    spec : CamSpec
+        The cam: follower, base radius, rotation and lift.
+    cam_angle_deg : array_like
+        Cam angles θ [deg].
+
+    Returns
+    -------
+    (ndarray, ndarray, ndarray, ndarray)
+        Surface x, y and pitch-curve x, y in the cam's own frame [mm].
+
+    References
+    ----------
+    Shinzato and Kunigami (1988): knife-edge contour x = l cos θ, y = l sin θ,
+    l = y + D/2 (kinematic inversion into the cam's frame).
+    """
     th = np.radians(np.asarray(cam_angle_deg, dtype=np.float64))
     k = kinematics(spec, th)
     back = -spec.sigma * th
@@ -75,7 +93,31 @@ def contour(spec: CamSpec, cam_angle_deg: ArrayLike) -> tuple[FloatArray, FloatA
 
 
 def compute_profile(spec: CamSpec, cam_angle_deg: ArrayLike) -> ProfileResult:
-    """The profile at the given cam angles (degrees) and the checks over the whole turn."""
+    """The profile at the given cam angles (degrees) and the checks over the whole turn.
+
+    Parameters
+    ----------
+    spec : CamSpec
+        The cam: follower, base radius, rotation and lift.
+    cam_angle_deg : array_like
+        Cam angles θ, finite [deg].
+
+    Returns
+    -------
+    ProfileResult
+        Lift, surface and pitch curve [mm], pressure angle [deg] and radii of curvature [mm]
+        at each angle, with :func:`~camcore.profile.checks.profile_checks` of the whole turn.
+
+    Raises
+    ------
+    InvalidParameterError
+        A non-finite cam angle.
+
+    References
+    ----------
+    Shinzato and Kunigami (1988), eq. (6) (pressure angle; their table 1 is reproduced by
+    the tests); Bezier valve-cam notes, eq. (11) (flat tappet contact offset).
+    """
     ang = np.asarray(cam_angle_deg, dtype=np.float64).reshape(-1)
     if not np.all(np.isfinite(ang)):
         raise InvalidParameterError("cam_angle_deg must be finite numbers.")
@@ -104,7 +146,24 @@ def compute_profile(spec: CamSpec, cam_angle_deg: ArrayLike) -> ProfileResult:
 
 
 def sample_profile(spec: CamSpec, samples: int = 361) -> ProfileResult:
-    """The profile at ``samples`` cam angles evenly over 0–360°, both ends included."""
+    """The profile at ``samples`` cam angles evenly over 0–360°, both ends included.
+
+    Parameters
+    ----------
+    spec : CamSpec
+        The cam: follower, base radius, rotation and lift.
+    samples : int
+        Number of cam angles (≥ 2) [-]; 361 gives 1° steps.
+
+    Returns
+    -------
+    ProfileResult
+        As :func:`compute_profile`; the last point repeats the first (360° = 0°).
+
+    References
+    ----------
+    Shinzato and Kunigami (1988): the contour sampled over one turn, 0° to 360°.
+    """
     if samples < 2:
         raise InvalidParameterError("samples must be at least 2.")
     return compute_profile(spec, np.linspace(0.0, 360.0, samples))

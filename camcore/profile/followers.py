@@ -108,6 +108,8 @@ class _PointFollower(FollowerModel):
 
     def kinematics(self, base_radius_mm: float, sigma: float, theta: FloatArray,
                    lift: list[FloatArray]) -> Kinematics:
+        """Pitch point from :meth:`pitch_point`, surface offset by Rr along the outward normal,
+        φ = atan2(u1·v̂, −σ u1·(J v̂)), κp = −σ (u1 × u2)/|u1|³ [1/mm], ρ = 1/κp − Rr [mm]."""
         h, h1, h2 = lift[0], lift[1], lift[2]
         sg, rr = sigma, self.roller_radius_mm
         cx, cy, c1x, c1y, c2x, c2y, vx, vy = self.pitch_point(base_radius_mm, h, h1, h2)
@@ -132,6 +134,7 @@ class KnifeEdgeTranslating(_PointFollower):
     """Knife-edge on the line x = e: c = (e, s0 + h), s0 = √(Rb² − e²)."""
 
     def check(self, base_radius_mm: float) -> None:
+        """Rb + Rr must exceed the offset |e|, or the line of motion misses the base circle."""
         r = base_radius_mm + self.roller_radius_mm
         if not r > abs(self.follower.offset_mm):
             raise GeometryError(
@@ -139,10 +142,12 @@ class KnifeEdgeTranslating(_PointFollower):
                 f"{abs(self.follower.offset_mm)!r} mm, or the follower line misses the base circle.")
 
     def min_base_radius_mm(self) -> float:
+        """|e| − Rr (at least 0): below it the line of motion misses the base circle [mm]."""
         return max(0.0, abs(self.follower.offset_mm) - self.roller_radius_mm)
 
     def pitch_point(self, base_radius_mm: float, h: FloatArray, h1: FloatArray, h2: FloatArray
                     ) -> tuple[FloatArray, ...]:
+        """c = (e, s0 + h), c' = (0, h'), c'' = (0, h''), v̂ = (0, 1); s0 = √((Rb + Rr)² − e²) [mm]."""
         e = self.follower.offset_mm
         s0 = math.sqrt((base_radius_mm + self.roller_radius_mm) ** 2 - e * e)
         zero, one = np.zeros_like(h), np.ones_like(h)
@@ -154,6 +159,7 @@ class RollerTranslating(KnifeEdgeTranslating):
 
     @property
     def roller_radius_mm(self) -> float:
+        """Rr, the roller's radius [mm]."""
         return self.follower.roller_radius_mm
 
 
@@ -172,6 +178,7 @@ class KnifeEdgeOscillating(_PointFollower):
         return math.acos(np.clip((d * d + arm * arm - r * r) / (2 * d * arm), -1.0, 1.0))
 
     def check(self, base_radius_mm: float) -> None:
+        """Needs d > 0, L > 0 and |d − L| < Rb + Rr < d + L, so the arm reaches the base circle."""
         d, arm = self.follower.pivot_distance_mm, self.follower.arm_length_mm
         if d is None or not (math.isfinite(d) and d > 0):
             raise GeometryError("An oscillating follower needs pivot_distance_mm > 0.")
@@ -185,14 +192,19 @@ class KnifeEdgeOscillating(_PointFollower):
                 f"pivot distance + arm length = {d + arm!r} mm.")
 
     def check_swing(self, base_radius_mm: float, lift: FloatArray) -> None:
+        """The arm angle α0 + ψ (ψ = the lift [deg]) must stay inside (0, π): no swing through
+        the line of centres."""
         _check_arm_angle(self.alpha0(base_radius_mm) + np.radians(lift))
 
     def min_base_radius_mm(self) -> float:
+        """|d − L| − Rr (at least 0): the arm cannot reach a smaller base circle [mm]."""
         d, arm = self._arm()
         return max(0.0, abs(d - arm) - self.roller_radius_mm)
 
     def pitch_point(self, base_radius_mm: float, h: FloatArray, h1: FloatArray, h2: FloatArray
                     ) -> tuple[FloatArray, ...]:
+        """B(α) = (d − L cos α, L sin α) at α = α0 + ψ, its θ-derivatives by the chain rule
+        (ψ', ψ'' in deg per rad), and v̂ = (sin α, cos α) [mm]."""
         d, arm = self._arm()
         a = self.alpha0(base_radius_mm) + np.radians(h)
         a1, a2 = np.radians(h1), np.radians(h2)
@@ -208,6 +220,7 @@ class RollerOscillating(KnifeEdgeOscillating):
 
     @property
     def roller_radius_mm(self) -> float:
+        """Rr, the roller's radius [mm]."""
         return self.follower.roller_radius_mm
 
 
@@ -231,6 +244,8 @@ class _FlatFollower(FollowerModel):
 
     def kinematics(self, base_radius_mm: float, sigma: float, theta: FloatArray,
                    lift: list[FloatArray]) -> Kinematics:
+        """Envelope of the face from its support function: contact q = p m + (dp/dφn) J m,
+        ρ = p + (p'' φn' − p' φn'')/φn'³ [mm], pressure angle 0."""
         h, h1, h2 = lift[0], lift[1], lift[2]
         p, p1, p2, phi1, phi2, mx, my = self.support(base_radius_mm, sigma, h, h1, h2)
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -250,10 +265,12 @@ class FlatTranslating(_FlatFollower):
 
     def support(self, base_radius_mm: float, sigma: float, h: FloatArray, h1: FloatArray, h2: FloatArray
                 ) -> tuple[FloatArray, ...]:
+        """Face ⟂ the motion: p = Rb + h, p' = h', p'' = h'', φn' = −σ, φn'' = 0, m = (0, 1)."""
         return (base_radius_mm + h, h1, h2, np.full_like(h, -sigma), np.zeros_like(h),
                 np.zeros_like(h), np.ones_like(h))
 
     def face_offset(self, cx: FloatArray, cy: FloatArray) -> FloatArray:
+        """cx − e, the contact's distance from the stem axis along the face [mm]."""
         return cx - self.follower.offset_mm
 
 
@@ -266,6 +283,7 @@ class FlatOscillating(_FlatFollower):
         return float(d)
 
     def check(self, base_radius_mm: float) -> None:
+        """Needs d > 0 and d > Rb: the pivot outside the base circle, so the face through it can touch."""
         d = self.follower.pivot_distance_mm
         if d is None or not (math.isfinite(d) and d > 0):
             raise GeometryError("An oscillating follower needs pivot_distance_mm > 0.")
@@ -275,10 +293,13 @@ class FlatOscillating(_FlatFollower):
                 "for a flat face through the pivot to touch it.")
 
     def check_swing(self, base_radius_mm: float, lift: FloatArray) -> None:
+        """The face angle asin(Rb/d) + ψ (ψ = the lift [deg]) must stay inside (0, π)."""
         _check_arm_angle(math.asin(base_radius_mm / self._pivot()) + np.radians(lift))
 
     def support(self, base_radius_mm: float, sigma: float, h: FloatArray, h1: FloatArray, h2: FloatArray
                 ) -> tuple[FloatArray, ...]:
+        """Face through the pivot: α = asin(Rb/d) + ψ, p = d sin α and its θ-derivatives,
+        φn' = −α' − σ, φn'' = −α'', m = (sin α, cos α)."""
         d = self._pivot()
         a = math.asin(base_radius_mm / d) + np.radians(h)
         a1, a2 = np.radians(h1), np.radians(h2)
@@ -288,6 +309,7 @@ class FlatOscillating(_FlatFollower):
         return p, p1, p2, -a1 - sigma, -a2, np.sin(a), np.cos(a)
 
     def face_offset(self, cx: FloatArray, cy: FloatArray) -> FloatArray:
+        """Distance of the contact from the pivot along the face [mm]."""
         return np.hypot(cx - self._pivot(), cy)  # distance from the pivot along the face
 
 
@@ -310,7 +332,28 @@ FOLLOWER_MOTIONS: tuple[str, ...] = tuple(dict.fromkeys(m for _, m in FOLLOWERS)
 
 
 def follower_model(follower: Follower) -> FollowerModel:
-    """The behaviour of this follower (its class from :data:`FOLLOWERS`)."""
+    """The behaviour of this follower (its class from :data:`FOLLOWERS`).
+
+    Parameters
+    ----------
+    follower : Follower
+        Type (knife-edge, roller, flat-faced), motion (translating, oscillating) and dimensions.
+
+    Returns
+    -------
+    FollowerModel
+        An instance of the class registered for (type, motion).
+
+    Raises
+    ------
+    InvalidParameterError
+        An unknown type or motion.
+
+    References
+    ----------
+    Shinzato and Kunigami (1988), eq. (6) (knife-edge); Bezier valve-cam notes, eq. (11)
+    (flat tappet); docs/architecture.md, one class per follower type and motion.
+    """
     if follower.type not in FOLLOWER_TYPES:
         raise InvalidParameterError(
             f"follower type must be {', '.join(FOLLOWER_TYPES[:-1])} or {FOLLOWER_TYPES[-1]}, not {follower.type!r}.")

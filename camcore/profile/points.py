@@ -32,6 +32,22 @@ def chord_convexity(x: ArrayLike, y: ArrayLike) -> bool:
     (the document's contour runs counter-clockwise; a clockwise contour is reversed
     first). A repeated closing point (last = first) is dropped; zero-length chords are
     skipped.
+
+    Parameters
+    ----------
+    x, y : array_like
+        Points of a closed contour in order [mm].
+
+    Returns
+    -------
+    bool
+        True when cos φi > 0 and sin φi > 0 at every point: each corner turns left by less
+        than 90° going counter-clockwise.
+
+    References
+    ----------
+    Bezier valve-cam notes, convexity test: cos φi > 0 and sin φi > 0 for consecutive chord
+    vectors a, b.
     """
     px, py = np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)
     if px.size > 1 and _same_point(px, py):
@@ -66,6 +82,30 @@ def pressure_angle_from_points(
     the polar angle of each point. With ``closed`` the list is one full turn (a repeated
     closing point, last = first, is allowed and handled like the paper's 0/360 case);
     otherwise the end points get NaN.
+
+    Parameters
+    ----------
+    x, y : array_like
+        Contour points, same length, at least 3 [mm].
+    cam_angle_deg : array_like, optional
+        Cam angle θ of each point [deg]; default the polar angle of the point.
+    closed : bool
+        The points are one full turn (the neighbours of the ends wrap around).
+
+    Returns
+    -------
+    ndarray
+        Pressure angle β at each point [deg]; NaN at the ends of an open list.
+
+    Raises
+    ------
+    InvalidParameterError
+        Mismatched lengths or fewer than 3 points.
+
+    References
+    ----------
+    Shinzato and Kunigami (1988), program list 1, lines 420-1240, eqs. (1), (4)-(5); eq. (6),
+    the analytic value the tests compare it with.
     """
     px = np.asarray(x, dtype=np.float64).reshape(-1)
     py = np.asarray(y, dtype=np.float64).reshape(-1)
@@ -93,7 +133,27 @@ def pressure_angle_from_lift_samples(
 ) -> FloatArray:
     """The paper's whole numerical method from lift samples over one closed turn:
     contour x = l cos θ, y = l sin θ with l = h + Rb (Shinzato eq. above fig. 2), then
-    :func:`pressure_angle_from_points`."""
+    :func:`pressure_angle_from_points`.
+
+    Parameters
+    ----------
+    lift_mm : array_like
+        Lift h of an in-line knife-edge follower at each angle [mm].
+    base_radius_mm : float
+        Rb, the base-circle radius (the paper's D/2) [mm].
+    cam_angle_deg : array_like
+        Cam angle θ of each sample, one full turn [deg].
+
+    Returns
+    -------
+    ndarray
+        Pressure angle at each sample [deg].
+
+    References
+    ----------
+    Shinzato and Kunigami (1988), program list 1 (contour from the lift, then the pressure
+    angle from neighbouring points); eq. (6), β = atan((l − D/2)/(θ·l)) for the check.
+    """
     h = np.asarray(lift_mm, dtype=np.float64)
     th = np.radians(np.asarray(cam_angle_deg, dtype=np.float64))
     r = h + base_radius_mm
