@@ -41,30 +41,37 @@ def near_15_digits(got: float, want: float) -> bool:
     return abs(got - want) <= half_unit + math.ulp(want)
 
 
-def _sheet(url: str) -> str:
-    """A flat-XML spreadsheet (.fods) with WEBSERVICE cells on /value, as a user types them.
+def _formula(text: str) -> str:
+    """A cell with a formula in OpenFormula syntax (WEBSERVICE is COM.MICROSOFT.WEBSERVICE
+    in a file; arguments separated by ';', cell A2 written [.A2])."""
+    return f"<table:table-cell table:formula={quoteattr('of:=' + text)}/>"
 
-    A1 the text of S at T = 0.3; B1 its number (VALUE); C1 T of the exact inverse at
-    S = 11/60 (NUMBERVALUE with '.', for decimal-comma locales); A2 an S typed in, B2 the T
-    where S = A2 (the URL built from the cell)."""
-    def formula(f: str) -> str:
-        return f"<table:table-cell table:formula={quoteattr(f)}/>"
 
-    row1 = (formula(f'of:=COM.MICROSOFT.WEBSERVICE("{url}?t=0.3")')
-            + formula(f'of:=VALUE(COM.MICROSOFT.WEBSERVICE("{url}?t=0.3"))')
-            + formula(f'of:=NUMBERVALUE(COM.MICROSOFT.WEBSERVICE("{url}?s={11 / 60!r}");".")'))
-    row2 = ('<table:table-cell office:value-type="float" office:value="0.1833"/>'
-            + formula(f'of:=VALUE(COM.MICROSOFT.WEBSERVICE("{url}?s="&[.A2]))'))
+def _number(value: float) -> str:
+    return f'<table:table-cell office:value-type="float" office:value="{value!r}"/>'
+
+
+def _spreadsheet(*rows: str) -> str:
+    """A flat-XML spreadsheet (.fods), one sheet, these rows of cells."""
+    body = "".join(f"<table:table-row>{row}</table:table-row>" for row in rows)
     return f"""<?xml version="1.0" encoding="UTF-8"?>
 <office:document xmlns:office="{NS['office']}" xmlns:table="{NS['table']}" xmlns:text="{NS['text']}"
  xmlns:of="urn:oasis:names:tc:opendocument:xmlns:of:1.2" office:version="1.3"
  office:mimetype="application/vnd.oasis.opendocument.spreadsheet">
- <office:body><office:spreadsheet><table:table table:name="cam">
-  <table:table-row>{row1}</table:table-row>
-  <table:table-row>{row2}</table:table-row>
- </table:table></office:spreadsheet></office:body>
+ <office:body><office:spreadsheet><table:table table:name="cam">{body}</table:table></office:spreadsheet></office:body>
 </office:document>
 """
+
+
+def _sheet(url: str) -> str:
+    """WEBSERVICE cells on /value, as a user types them: A1 the text of S at T = 0.3; B1
+    its number (VALUE); C1 T of the exact inverse at S = 11/60 (NUMBERVALUE with '.');
+    A2 an S typed in, B2 the T where S = A2 (the URL built from the cell)."""
+    return _spreadsheet(
+        _formula(f'COM.MICROSOFT.WEBSERVICE("{url}?t=0.3")')
+        + _formula(f'VALUE(COM.MICROSOFT.WEBSERVICE("{url}?t=0.3"))')
+        + _formula(f'NUMBERVALUE(COM.MICROSOFT.WEBSERVICE("{url}?s={11 / 60!r}");".")'),
+        _number(0.1833) + _formula(f'VALUE(COM.MICROSOFT.WEBSERVICE("{url}?s="&[.A2]))'))
 
 
 def _cells(fods: Path) -> list[list[tuple[str, str]]]:
@@ -125,6 +132,26 @@ def test_webservice_cells_give_the_numbers_once_links_may_update(base_url: str, 
     # and --convert-to never updates links (it loads every file with link updates off)
     converted = convert(sheet, "fods", tmp_path / "converted", profile=allowed / "profile")
     assert _cells(converted)[0] == [("", "Err:540")] * 3
+
+
+def test_decimal_comma_locales_need_a_point_in_the_url_and_numbervalue(base_url: str, tmp_path: Path) -> None:
+    """In a German LibreOffice a number joined to text is written 0,1833 (the service wants
+    0.1833: SUBSTITUTE the comma) and VALUE reads only 0,30…: NUMBERVALUE(…; ".") reads both."""
+    url = f"{base_url}/v1/curves/MS/value"
+    folder = tmp_path / "sheets"
+    folder.mkdir()
+    (folder / "de.fods").write_text(_spreadsheet(
+        _number(0.1833)
+        + _formula(f'NUMBERVALUE(COM.MICROSOFT.WEBSERVICE("{url}?s="&SUBSTITUTE([.A1];",";"."));".")')
+        + _formula(f'VALUE(COM.MICROSOFT.WEBSERVICE("{url}?t=0.3"))')), encoding="utf-8")
+    german = {("/org.openoffice.Setup/L10N", "ooSetupSystemLocale"): "de-DE",
+              ("/org.openoffice.Office.Linguistic/General", "DefaultLocale"): "de-DE"}
+    configure(tmp_path / "profile", UPDATE_LINKS_ALWAYS | trusted_location(folder) | german)
+    _open_in_calc(tmp_path / "profile", folder / "de.fods", tmp_path / "de.fods")
+    ((a1, b1, c1),) = _cells(tmp_path / "de.fods")
+    assert a1 == ("0.1833", "0,1833")  # the German display: the locale took effect
+    assert near_15_digits(float(b1[0]), float(MS.inverse(np.array([0.1833]))[0]))
+    assert c1 == ("", "Err:502")  # VALUE("0.17788…") is not a number in German
 
 
 def test_the_csv_url_opens_as_a_table_with_the_csv_filter(base_url: str, tmp_path: Path) -> None:
