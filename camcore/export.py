@@ -4,17 +4,27 @@ All functions take the contour as x, y arrays in millimetres (the cam's own fram
 e.g. ``ProfileResult.x_mm, y_mm``). A repeated closing point (last = first within 1e-9 of the contour size, as from
 ``sample_profile`` over 0–360° with both ends) is dropped where a closed entity is
 written, so a DXF polyline has one vertex per distinct point.
+
+:data:`FORMATS` is the registry of download formats: each entry names a format and gives
+its writer, media type, file name and a one-line description. Everything that offers a
+download (the service's ``?format=`` values, answer headers, the OpenAPI document) is read
+from it, so a new format is one entry here.
 """
 
 from __future__ import annotations
 
 import io
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from .errors import InvalidParameterError
+
+if TYPE_CHECKING:
+    from ezdxf.document import Drawing
 
 
 def _xy(x: ArrayLike, y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
@@ -126,7 +136,8 @@ def contour_dxf(
 ) -> bytes:
     """DXF R2010 drawing in millimetres: a closed LWPOLYLINE through the contour points,
     optionally a closed SPLINE through the same fit points (layer ``<layer>_SPLINE``) and
-    the base circle (layer ``<layer>_BASE``).
+    the base circle (layer ``<layer>_BASE``). The header's extents (``$EXTMIN/$EXTMAX``) and
+    limits and the opening view (the ``*Active`` viewport) are the drawing's bounding box.
 
     Parameters
     ----------
@@ -154,8 +165,9 @@ def contour_dxf(
     References
     ----------
     Autodesk, DXF Reference (AutoCAD 2010): LWPOLYLINE (closed flag 70 = 1), SPLINE (fit
-    points), CIRCLE, header variables $INSUNITS and $MEASUREMENT; ezdxf documentation:
-    ``ezdxf.new``, ``Modelspace.add_lwpolyline``, ``add_spline``, ``add_circle``.
+    points), CIRCLE, VPORT, header variables $INSUNITS, $MEASUREMENT, $EXTMIN/$EXTMAX and
+    $LIMMIN/$LIMMAX; ezdxf documentation: ``ezdxf.new``, ``Modelspace.add_lwpolyline``,
+    ``add_spline``, ``add_circle``, ``Layout.reset_extents``, ``ezdxf.zoom.window``.
     """
     import ezdxf
     from ezdxf import units
@@ -177,9 +189,113 @@ def contour_dxf(
     if base_radius_mm is not None:
         doc.layers.add(f"{layer}_BASE")
         msp.add_circle((0.0, 0.0), base_radius_mm, dxfattribs={"layer": f"{layer}_BASE"})
+    _zoom_to_drawing(doc, px, py, base_radius_mm)
     stream = io.StringIO()
     doc.write(stream)
     return stream.getvalue().encode("utf-8")
 
 
-__all__ = ["contour_csv", "contour_dxf", "contour_xyz"]
+def _zoom_to_drawing(doc: Drawing, px: np.ndarray, py: np.ndarray, base_radius_mm: float | None) -> None:
+    """Extents, limits and the initial view of model space: the drawing's bounding box.
+
+    ezdxf leaves ``$EXTMIN/$EXTMAX`` at ±1e20 (AutoCAD's "not known"); a reader that
+    scales the drawing to the header extents (LibreOffice Draw) then shrinks it to one
+    point and shows a blank page. The box is that of the contour points and the base
+    circle; the spline through the same points bulges past them by about the sagitta
+    between neighbouring points (~1e-4 mm at 721 points), which matters to no zoom, while
+    ezdxf's own spline bounding box costs ~45 ms a drawing (4x the rest of the export).
+    """
+    from ezdxf import zoom
+    from ezdxf.math import Vec2
+
+    lo = [float(px.min()), float(py.min())]
+    hi = [float(px.max()), float(py.max())]
+    if base_radius_mm is not None:
+        lo = [min(v, -base_radius_mm) for v in lo]
+        hi = [max(v, base_radius_mm) for v in hi]
+    msp = doc.modelspace()
+    # ezdxf copies model space's extents and limits into $EXTMIN/$EXTMAX, $LIMMIN/$LIMMAX
+    # when it writes; header values set directly would be overwritten
+    msp.reset_extents((lo[0], lo[1], 0.0), (hi[0], hi[1], 0.0))
+    msp.reset_limits((lo[0], lo[1]), (hi[0], hi[1]))
+    # the "*Active" viewport: CAD programs open the file looking at the whole cam
+    zoom.window(msp, Vec2(lo), Vec2(hi))
+
+
+@dataclass(frozen=True)
+class Contour:
+    """What a download format may write: the contour and what is known about it.
+
+    Attributes
+    ----------
+    x_mm, y_mm : numpy.ndarray
+        The cam surface in the cam's frame [mm].
+    cam_angle_deg : numpy.ndarray or None
+        The cam angle of each point [deg].
+    base_radius_mm : float or None
+        The base circle's radius [mm], drawn where the format can draw it.
+    """
+
+    x_mm: np.ndarray
+    y_mm: np.ndarray
+    cam_angle_deg: np.ndarray | None = None
+    base_radius_mm: float | None = None
+
+
+@dataclass(frozen=True)
+class ContourFormat:
+    """One download format of a contour: one entry of :data:`FORMATS`.
+
+    Attributes
+    ----------
+    name : str
+        The format's name (the service's ``?format=`` value).
+    media_type : str
+        Its media (MIME) type, with the charset of a text format.
+    file_name : str
+        The file name a download suggests.
+    description : str
+        One line for users: what the file holds and what reads it.
+    write : callable
+        ``write(contour) -> bytes``: the file's content.
+    """
+
+    name: str
+    media_type: str
+    file_name: str
+    description: str
+    write: Callable[[Contour], bytes]
+
+    @property
+    def is_text(self) -> bool:
+        """Whether the file is text for every reader (``text/*``)."""
+        return self.media_type.startswith("text/")
+
+
+def _write_dxf(c: Contour) -> bytes:
+    return contour_dxf(c.x_mm, c.y_mm, spline=True, base_radius_mm=c.base_radius_mm)
+
+
+def _write_xyz(c: Contour) -> bytes:
+    return contour_xyz(c.x_mm, c.y_mm).encode()
+
+
+def _write_csv(c: Contour) -> bytes:
+    return contour_csv(c.x_mm, c.y_mm, c.cam_angle_deg, with_z=True).encode()
+
+
+#: the download formats of a contour, by name (the order is the order users see)
+FORMATS: dict[str, ContourFormat] = {f.name: f for f in (
+    ContourFormat("dxf", "application/dxf", "cam.dxf",
+                  "AutoCAD 2010 DXF in mm: layer CAM a closed polyline through the points, CAM_SPLINE a fitted "
+                  "spline, CAM_BASE the base circle", _write_dxf),
+    ContourFormat("xyz", "text/plain; charset=utf-8", "cam.xyz",
+                  "one 'X Y Z' line per point (mm, z = 0, closed, no header) for CAD curve-through-points import",
+                  _write_xyz),
+    ContourFormat("contour-csv", "text/csv; charset=utf-8", "cam_contour.csv",
+                  "CSV with header cam_angle_deg,x_mm,y_mm,z_mm (z = 0) for spreadsheets and CMM software",
+                  _write_csv),
+)}
+
+
+__all__ = ["FORMATS", "Contour", "ContourFormat", "contour_csv", "contour_dxf", "contour_xyz"]

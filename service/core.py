@@ -16,7 +16,7 @@ from camcore.results import as_dict
 from camcore.errors import LimitExceededError
 
 from .cache import LRUCache
-from .responses import encode_table
+from .responses import encode_table, encode_value
 from .schemas import (
     BezierCurveSpec,
     CurveSpec,
@@ -157,6 +157,16 @@ class CurveService:
     ) -> bytes:
         """The encoded inverse answer (JSON or CSV)."""
         return encode_table(self.inverse_columns(spec, s, method, table_step, table_decimals), csv)
+
+    def value(self, spec: CurveSpec, quantity: str, t: float | None, s: float | None) -> bytes:
+        """One number as text: ``quantity`` (s, v, a, j, q) at the time t, as in a table;
+        or, given s instead, the T of the exact inverse."""
+        if s is not None:
+            number = self.curve(spec).inverse(np.array([s]))[0]
+        else:
+            assert t is not None
+            number = self.table_columns(spec, None, [t])[quantity][0]
+        return encode_value(quantity, float(number))
 
     def catalog_entry(self, entry: camcore.CatalogEntry) -> dict[str, Any]:
         return {

@@ -70,12 +70,7 @@ class ProfileService:
         return as_dict(result)
 
     @staticmethod
-    def export(result: core.ProfileResult, fmt: str, base_radius_mm: float) -> tuple[bytes, str, str]:
-        """(body, media type, file name) of a contour export: dxf, xyz or csv."""
-        x, y = result.x_mm, result.y_mm
-        if fmt == "dxf":
-            return export.contour_dxf(x, y, spline=True, base_radius_mm=base_radius_mm), "application/dxf", "cam.dxf"
-        if fmt == "xyz":
-            return export.contour_xyz(x, y).encode(), "text/plain; charset=utf-8", "cam.xyz"
-        return (export.contour_csv(x, y, result.cam_angle_deg, with_z=True).encode(), "text/csv; charset=utf-8",
-                "cam_contour.csv")
+    def export(result: core.ProfileResult, fmt: str, base_radius_mm: float) -> bytes:
+        """The file of a contour download in one of :data:`camcore.export.FORMATS`."""
+        contour = export.Contour(result.x_mm, result.y_mm, result.cam_angle_deg, base_radius_mm)
+        return export.FORMATS[fmt].write(contour)

@@ -77,6 +77,12 @@ def encode_table(columns: Mapping[str, Any], csv: bool, allow_null: tuple[str, .
     return encode_csv(columns) if csv else orjson.dumps(dict(columns), option=_OPTIONS)
 
 
+def encode_value(name: str, value: float) -> bytes:
+    """One number as the whole answer (text/plain): Python's shortest round-trip form."""
+    check_finite({name: np.float64(value)})
+    return repr(float(value)).encode()
+
+
 def encoded_response(payload: bytes, csv: bool, filename: str = "table.csv") -> Response:
     if csv:
         return CSVBody(payload, headers={"Content-Disposition": f'inline; filename="{filename}"'})

@@ -6,8 +6,9 @@ from collections.abc import Callable
 from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, Depends, Path, Query, Request
+from fastapi.exceptions import RequestValidationError
 from starlette.concurrency import run_in_threadpool
-from starlette.responses import Response
+from starlette.responses import PlainTextResponse, Response
 
 import camcore
 from camcore.errors import InvalidParameterError
@@ -152,3 +153,47 @@ async def invert_named_curve(
     spec = NamedCurveSpec(name=name, direction=direction)
     return await _inverse(service, spec, _parse_numbers(s, "s"), method, table_step, table_decimals,
                           format == "csv")
+
+
+VALUE = {
+    "content": {"text/plain": {"schema": {"type": "string"}, "example": "0.17788776262872125"}},
+    "description": "One bare number (Python's shortest round-trip form), e.g. S of MS at T = 0.3",
+}
+
+
+def _value_query(t: float | None, s: float | None, quantity: str | None) -> str:
+    """The quantity a /value query asks for; t or s, not both, and a quantity that fits."""
+    def invalid(field: str, msg: str) -> RequestValidationError:
+        return RequestValidationError([{"type": "value_error", "loc": ("query", field), "msg": msg}])
+
+    if t is not None and s is not None:
+        raise invalid("s", "give t (a time, for s, v, a, j or q) or s (a displacement, for its t), not both")
+    if t is None and s is None:
+        raise invalid("t", "give t (a time, e.g. ?t=0.3) or s (a displacement, e.g. ?s=0.1833)")
+    if s is not None:
+        if quantity not in (None, "t"):
+            raise invalid("quantity", f"with s the answer is the time t of the exact inverse, not {quantity}")
+        return "t"
+    if quantity == "t":
+        raise invalid("quantity", "with t the quantity is one of s, v, a, j, q (to find t, give s)")
+    return quantity or "s"
+
+
+@router.get("/{name}/value", operation_id="getCurveValue", response_class=Response,
+            responses={**ERRORS, 200: VALUE})
+async def curve_value(
+    name: CurveName,
+    service: Service,
+    t: Annotated[float | None, Query(allow_inf_nan=False, description="time T; answers quantity at T")] = None,
+    s: Annotated[float | None, Query(allow_inf_nan=False,
+                                     description="displacement S; answers T of the exact inverse")] = None,
+    quantity: Annotated[Literal["t", "s", "v", "a", "j", "q"] | None,
+                        Query(description="with t: s (default), v, a, j or q; with s: t")] = None,
+    direction: Literal["rise", "return"] = "rise",
+) -> Response:
+    """One number for a spreadsheet cell (``=WEBSERVICE(...)``): S, V, A, J or Q at T, or T
+    where S = s (exact inverse), as ``text/plain``; errors are JSON as everywhere."""
+    what = _value_query(t, s, quantity)
+    spec = NamedCurveSpec(name=name, direction=direction)
+    quick = service.is_quick_inverse(spec, 1, "exact") if s is not None else service.is_quick_table(spec, 1)
+    return PlainTextResponse(await _run(quick, service.value, spec, what, t, s))

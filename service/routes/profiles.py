@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 import numpy as np
 from fastapi import APIRouter, Depends, Query, Request
 from starlette.responses import Response
+
+from camcore.export import FORMATS, ContourFormat
 
 from ..deps import profile_service
 from ..profile_schemas import BaseCircleAnswer, BaseCircleRequest, ProfileAnswer, ProfileRequest
@@ -18,14 +20,22 @@ from .curves import ERRORS
 router = APIRouter(prefix="/v1/profiles", tags=["profiles"], route_class=OrjsonRoute)
 Service = Annotated[ProfileService, Depends(profile_service)]
 
+
+def _content(fmt: ContourFormat) -> dict[str, Any]:
+    """A download's OpenAPI media type: text for text/*, else bytes (generated clients return bytes)."""
+    schema = {"type": "string"} if fmt.is_text else {"type": "string", "format": "binary"}
+    return {fmt.media_type.split(";")[0]: {"schema": schema}}
+
+
 EXPORTS = {
-    "content": {
-        "text/csv": {"schema": {"type": "string"}},
-        "application/dxf": {"schema": {"type": "string", "format": "binary"}},
-        "text/plain": {"schema": {"type": "string"}},
-    },
+    "content": {"text/csv": {"schema": {"type": "string"}}}
+    | {key: value for fmt in FORMATS.values() for key, value in _content(fmt).items()},
     "description": "Columns and checks as JSON; the table as CSV; the contour as DXF or X Y Z text",
 }
+#: ``?format=``: the table as JSON or CSV, or a contour download (camcore.export.FORMATS)
+ProfileFormat = Literal[("json", "csv", *FORMATS)]  # type: ignore[valid-type]  # built from the registry
+FORMAT_HELP = " / ".join(FORMATS) + " download the contour:\n\n" + "\n".join(
+    f"- `{fmt.name}` ({fmt.media_type.split(';')[0]}, {fmt.file_name}): {fmt.description}" for fmt in FORMATS.values())
 
 
 @router.post("", operation_id="computeProfile", response_model=ProfileAnswer, responses={**ERRORS, 200: EXPORTS})
@@ -33,15 +43,14 @@ def compute_profile(
     body: ProfileRequest,
     request: Request,
     service: Service,
-    format: Annotated[Literal["json", "csv", "dxf", "xyz", "contour-csv"] | None,
-                      Query(description="dxf / xyz / contour-csv download the contour")] = None,
+    format: Annotated[ProfileFormat | None, Query(description=FORMAT_HELP)] = None,
 ) -> Response:
     """Cam surface, pitch curve, lift, pressure angle, radius of curvature, and the checks."""
     result = service.profile(body.profile, body.samples, body.cam_angle_deg)
-    if format in ("dxf", "xyz", "contour-csv"):
-        payload, media, name = service.export(result, "csv" if format == "contour-csv" else format,
-                                              body.profile.base_radius_mm)
-        return Response(payload, media_type=media, headers={"Content-Disposition": f'attachment; filename="{name}"'})
+    if format in FORMATS:
+        download = FORMATS[format]
+        return Response(service.export(result, format, body.profile.base_radius_mm), media_type=download.media_type,
+                        headers={"Content-Disposition": f'attachment; filename="{download.file_name}"'})
     columns = service.columns(result)
     bounded = {k: v for k, v in columns.items() if k not in UNBOUNDED_COLUMNS}
     check_finite(bounded)
