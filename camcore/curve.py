@@ -82,7 +82,8 @@ class Extremum:
 class Characteristics:
     """Characteristic values of a curve over [T0, T7], from its closed form.
 
-    ``vm`` is the largest |V|; ``am`` the largest |A| (the Am that normalises Q).
+    ``vm`` is the largest |V|; ``am`` the largest |A| (the Am that normalises Q), and
+    ``am_abs`` the same value with the T where it occurs, like every other extreme.
     Negative extremes (``am_neg``, ``jm_neg``, ``qm_neg``) are signed (≤ 0 for the
     standard curves), as Makino's AJKMM and QMM are.
     """
@@ -91,6 +92,7 @@ class Characteristics:
     v_max: Extremum
     v_min: Extremum
     am: float
+    am_abs: Extremum
     am_pos: Extremum
     am_neg: Extremum
     jm_pos: Extremum
@@ -105,7 +107,7 @@ class Characteristics:
     def as_dict(self) -> dict[str, Any]:
         out: dict[str, Any] = {"am": self.am}
         for name in (
-            "vm", "v_max", "v_min", "am_pos", "am_neg", "jm_pos", "jm_neg",
+            "vm", "v_max", "v_min", "am_abs", "am_pos", "am_neg", "jm_pos", "jm_neg",
             "qm_pos", "qm_neg", "qm_raw_pos", "qm_raw_neg", "s_max", "s_min",
         ):
             ext: Extremum = getattr(self, name)
@@ -372,6 +374,10 @@ class Curve:
         vm = v_max if abs(v_max.value) >= abs(v_min.value) else v_min
         am_pos, am_neg = ext(2, True), ext(2, False)
         am = max(abs(am_pos.value), abs(am_neg.value))
+        # the T of the largest |A|; the earlier of the two peaks when they tie, and they tie
+        # within a few ulps: Amp and Amm solved from eq. (11) differ by an ulp or two where
+        # the law makes them equal (m = 1: TR's Amp is 1 ulp below its Amm)
+        t_am = min(x.t for x in (am_pos, am_neg) if am - abs(x.value) <= 4 * float(np.spacing(am)))
         q_pos, q_neg = ext(4, True), ext(4, False)
         scale = 1.0 / am if am > 0 else 0.0
         return Characteristics(
@@ -379,6 +385,7 @@ class Curve:
             v_max=v_max,
             v_min=v_min,
             am=am,
+            am_abs=Extremum(am, t_am),
             am_pos=am_pos,
             am_neg=am_neg,
             jm_pos=ext(3, True),
