@@ -211,7 +211,9 @@ class CharacteristicsAnswer(BaseModel):
 
     vm: float
     t_vm: float
-    am: float = Field(description="largest |A|, the Am that normalises Q")
+    am: float = Field(description="largest |A|, the Am that normalises Q (the value of am_abs)")
+    am_abs: float = Field(description="largest |A| (= am), with its T like every other extreme")
+    t_am_abs: float = Field(description="T of the largest |A|, the earlier peak when Am+ and Am− tie")
     am_pos: float
     t_am_pos: float
     am_neg: float
