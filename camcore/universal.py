@@ -152,7 +152,9 @@ class UniversalCurve(SectionCurve):
                 return Section(start, length, alpha=amplitude, from_end=i == last)
             omega = PI / (2 * length) if length > 0 else 0.0
             if i != last:
-                return Section(start, length, omega=omega, **{"beta" if kind == "sin" else "gamma": amplitude})
+                if kind == "sin":
+                    return Section(start, length, beta=amplitude, omega=omega)
+                return Section(start, length, gamma=amplitude, omega=omega)
             # about the end, τ = T − end: sin(ω(T − start)) = cos ωτ, cos(ω(T − start)) = −sin ωτ
             if kind == "sin":
                 return Section(start, length, gamma=amplitude, omega=omega, from_end=True)
