@@ -439,7 +439,8 @@ class Curve:
             i = int(np.nonzero(bad)[0][0])
             raise StrokeRangeError(
                 f"s[{i}] = {float(s.reshape(-1)[i])!r} is outside the stroke of this curve, "
-                f"which runs from S = {self.s_start!r} to S = {self.s_end!r}."
+                f"which runs from S = {self.s_start!r} to S = {self.s_end!r}.",
+                field=("s", i),
             )
 
     def _clamp_to_stroke(self, s: FloatArray) -> FloatArray:

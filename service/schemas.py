@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Annotated, Any, Literal, Self
 
-from pydantic import BaseModel, ConfigDict, Field, PrivateAttr, model_validator
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr, model_validator
 
 #: magnitude bound for dimensionless inputs: far beyond any cam, small enough that
 #: squares and products of a few of them stay finite in float64
@@ -19,6 +19,30 @@ BIG = 1e6
 
 Finite = Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]
 Direction = Literal["rise", "return"]
+
+
+def _split_commas(values: object) -> object:
+    """Query values, each possibly a comma-separated list: ?s=0.1&s=0.2,0.3 → [0.1, 0.2, 0.3]."""
+    if isinstance(values, str):
+        values = [values]
+    if not isinstance(values, list):
+        return values
+    return [part.strip() for raw in values for part in str(raw).split(",") if part.strip()]
+
+
+def _number(value: object) -> object:
+    if isinstance(value, str):
+        try:
+            return float(value)
+        except ValueError:
+            raise ValueError(f"'{value[:40]}' is not a number") from None
+    return value
+
+
+#: a list of finite numbers in a query string: repeat the parameter or separate by commas
+#: (a spreadsheet cell builds ?s=0.1,0.2 more easily than ?s=0.1&s=0.2); typed as numbers in
+#: the OpenAPI document, so generated clients send numbers
+QueryNumbers = Annotated[list[Annotated[Finite, BeforeValidator(_number)]], BeforeValidator(_split_commas)]
 
 
 class Spec(BaseModel):

@@ -10,10 +10,10 @@ from starlette.concurrency import run_in_threadpool
 from starlette.responses import Response
 
 import camcore
-from camcore.errors import InvalidParameterError
 
 from ..core import CurveService
 from ..deps import curve_service
+from ..errors import relocate, within
 from ..responses import JSONBody, encoded_response, wants_csv
 from ..routing import OrjsonRoute
 from ..schemas import (
@@ -27,6 +27,7 @@ from ..schemas import (
     InverseRequest,
     InverseTable,
     NamedCurveSpec,
+    QueryNumbers,
     TableRequest,
 )
 
@@ -53,7 +54,8 @@ def list_curves(service: Service) -> Response:
 @router.get("/{name}", operation_id="getCurve", response_model=CatalogEntryAnswer, responses=ERRORS)
 def get_curve(name: CurveName, service: Service) -> Response:
     """One catalog entry, by id, alias or Makino number (case-insensitive)."""
-    return JSONBody(service.catalog_entry(camcore.lookup(name)))
+    with within("path"):
+        return JSONBody(service.catalog_entry(camcore.lookup(name)))
 
 
 @router.post("/characteristics", operation_id="getCurveCharacteristics",
@@ -100,7 +102,9 @@ async def sample_named_curve(
 ) -> Response:
     """The table of a catalog curve, for spreadsheets (``?format=csv``)."""
     csv = format == "csv"
-    return encoded_response(await _sampled_table(service, NamedCurveSpec(name=name, direction=direction), samples, csv), csv)
+    with relocate(("curve",), ("path",)):  # the spec's name is the path's
+        payload = await _sampled_table(service, NamedCurveSpec(name=name, direction=direction), samples, csv)
+    return encoded_response(payload, csv)
 
 
 @router.post("/inverse", operation_id="invertCurve", response_model=InverseTable, responses={**ERRORS, 200: CSV})
@@ -117,31 +121,12 @@ async def _inverse(service: CurveService, spec: CurveSpec, s: list[float], metho
     return encoded_response(payload, csv)
 
 
-def _parse_numbers(values: list[str], name: str) -> list[float]:
-    out: list[float] = []
-    for raw in values:
-        for part in raw.split(","):
-            part = part.strip()
-            if not part:
-                continue
-            try:
-                x = float(part)
-            except ValueError:
-                raise InvalidParameterError(f"{name} must be numbers; '{part[:40]}' is not a number.") from None
-            if x != x or x in (float("inf"), float("-inf")):
-                raise InvalidParameterError(f"{name} must be finite numbers, not '{part[:40]}'.")
-            out.append(x)
-    if not out:
-        raise InvalidParameterError(f"give at least one {name} value, e.g. ?{name}=0.5")
-    return out
-
-
 @router.get("/{name}/inverse", operation_id="invertNamedCurve", response_model=InverseTable,
             responses={**ERRORS, 200: CSV})
 async def invert_named_curve(
     name: CurveName,
     service: Service,
-    s: Annotated[list[str], Query(description="S values: repeat ?s= or separate by commas")],
+    s: Annotated[QueryNumbers, Query(min_length=1, description="S values: repeat ?s= or separate by commas")],
     method: Literal["exact", "table"] = "exact",
     table_step: Annotated[float, Query(ge=1e-4, le=0.5)] = 0.01,
     table_decimals: Annotated[int | None, Query(ge=0, le=15)] = None,
@@ -150,5 +135,5 @@ async def invert_named_curve(
 ) -> Response:
     """The inverse lookup of a catalog curve, for spreadsheets (``?s=0.1833&format=csv``)."""
     spec = NamedCurveSpec(name=name, direction=direction)
-    return await _inverse(service, spec, _parse_numbers(s, "s"), method, table_step, table_decimals,
-                          format == "csv")
+    with relocate(("curve",), ("path",)):  # the spec's name is the path's
+        return await _inverse(service, spec, s, method, table_step, table_decimals, format == "csv")
