@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Annotated, Any, Literal
 
-from fastapi import APIRouter, Depends, Path, Query, Request
+from fastapi import APIRouter, Body, Depends, Path, Query, Request
 from starlette.concurrency import run_in_threadpool
 from starlette.responses import Response
 
@@ -17,6 +17,9 @@ from ..errors import relocate, within
 from ..responses import JSONBody, encoded_response, wants_csv
 from ..routing import OrjsonRoute
 from ..schemas import (
+    CHARACTERISTICS_EXAMPLES,
+    INVERSE_EXAMPLES,
+    TABLE_EXAMPLES,
     CatalogAnswer,
     CatalogEntryAnswer,
     CharacteristicsAnswer,
@@ -60,13 +63,15 @@ def get_curve(name: CurveName, service: Service) -> Response:
 
 @router.post("/characteristics", operation_id="getCurveCharacteristics",
              response_model=CharacteristicsAnswer, responses=ERRORS)
-def characteristics(body: CharacteristicsRequest, service: Service) -> Response:
+def characteristics(body: Annotated[CharacteristicsRequest, Body(openapi_examples=CHARACTERISTICS_EXAMPLES)],
+                    service: Service) -> Response:
     """Vm, Am±, Jm±, Qm± (and raw A·V extremes) with the T where each occurs."""
     return JSONBody(service.characteristics(body.curve))
 
 
 @router.post("/table", operation_id="sampleCurve", response_model=CurveTable, responses={**ERRORS, 200: CSV})
-async def sample_curve(body: TableRequest, request: Request, service: Service) -> Response:
+async def sample_curve(body: Annotated[TableRequest, Body(openapi_examples=TABLE_EXAMPLES)], request: Request,
+                       service: Service) -> Response:
     """Columns t, s, v, a, j, q at evenly spaced samples or at given times."""
     csv = wants_csv(request)
     if body.samples is not None:
@@ -108,7 +113,8 @@ async def sample_named_curve(
 
 
 @router.post("/inverse", operation_id="invertCurve", response_model=InverseTable, responses={**ERRORS, 200: CSV})
-async def invert_curve(body: InverseRequest, request: Request, service: Service) -> Response:
+async def invert_curve(body: Annotated[InverseRequest, Body(openapi_examples=INVERSE_EXAMPLES)], request: Request,
+                       service: Service) -> Response:
     """T (and V, A) where S(T) = s: exact, or the catalog's table interpolation."""
     return await _inverse(service, body.curve, body.s, body.method, body.table_step, body.table_decimals,
                           wants_csv(request))

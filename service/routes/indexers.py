@@ -4,11 +4,14 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from fastapi import APIRouter, Depends, Query, Request
+from fastapi import APIRouter, Body, Depends, Query, Request
 from starlette.responses import Response
 
 from ..deps import indexer_service
 from ..indexer_schemas import (
+    MOTION_EXAMPLES,
+    POSITION_EXAMPLES,
+    SIZING_EXAMPLES,
     AccuracyAnswer,
     MotionAnswer,
     MotionRequest,
@@ -27,7 +30,8 @@ Service = Annotated[IndexerService, Depends(indexer_service)]
 
 
 @router.post("/motion", operation_id="getIndexerMotion", response_model=MotionAnswer, responses={**ERRORS, 200: CSV})
-def indexer_motion(body: MotionRequest, request: Request, service: Service) -> Response:
+def indexer_motion(body: Annotated[MotionRequest, Body(openapi_examples=MOTION_EXAMPLES)], request: Request,
+                   service: Service) -> Response:
     """Summary (times, exact peaks) and the output motion over one index (CSV: the table)."""
     summary, table = service.motion(body.indexer, body.samples)
     if wants_csv(request):
@@ -38,7 +42,8 @@ def indexer_motion(body: MotionRequest, request: Request, service: Service) -> R
 
 @router.post("/position", operation_id="getIndexerPosition", response_model=PositionAnswer,
              responses={**ERRORS, 200: CSV})
-def indexer_position(body: PositionRequest, request: Request, service: Service) -> Response:
+def indexer_position(body: Annotated[PositionRequest, Body(openapi_examples=POSITION_EXAMPLES)], request: Request,
+                     service: Service) -> Response:
     """For each output angle: input angle, time, ω and α (exact, or the catalog's table method)."""
     columns = service.position(body.indexer, body.output_angle_deg, body.method, body.table_step,
                                body.table_decimals)
@@ -46,7 +51,8 @@ def indexer_position(body: PositionRequest, request: Request, service: Service) 
 
 
 @router.post("/sizing", operation_id="sizeIndexer", response_model=SizingAnswer, responses=ERRORS)
-def indexer_sizing(body: SizingRequest, service: Service) -> Response:
+def indexer_sizing(body: Annotated[SizingRequest, Body(openapi_examples=SIZING_EXAMPLES)],
+                   service: Service) -> Response:
     """Inertia, friction and work torque, output and input torque, input power."""
     result = service.sizing(body.indexer, body.load)
     check_finite({k: v for k, v in result.items() if isinstance(v, float)})

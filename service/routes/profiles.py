@@ -5,11 +5,18 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 import numpy as np
-from fastapi import APIRouter, Depends, Query, Request
+from fastapi import APIRouter, Body, Depends, Query, Request
 from starlette.responses import Response
 
 from ..deps import profile_service
-from ..profile_schemas import BaseCircleAnswer, BaseCircleRequest, ProfileAnswer, ProfileRequest
+from ..profile_schemas import (
+    BASE_CIRCLE_EXAMPLES,
+    PROFILE_EXAMPLES,
+    BaseCircleAnswer,
+    BaseCircleRequest,
+    ProfileAnswer,
+    ProfileRequest,
+)
 from ..profiles import UNBOUNDED_COLUMNS, ProfileService
 from ..responses import JSONBody, check_finite, table_response, wants_csv
 from ..routing import OrjsonRoute
@@ -30,7 +37,7 @@ EXPORTS = {
 
 @router.post("", operation_id="computeProfile", response_model=ProfileAnswer, responses={**ERRORS, 200: EXPORTS})
 def compute_profile(
-    body: ProfileRequest,
+    body: Annotated[ProfileRequest, Body(openapi_examples=PROFILE_EXAMPLES)],
     request: Request,
     service: Service,
     format: Annotated[Literal["json", "csv", "dxf", "xyz", "contour-csv"] | None,
@@ -52,7 +59,8 @@ def compute_profile(
 
 
 @router.post("/base-circle", operation_id="sizeBaseCircle", response_model=BaseCircleAnswer, responses=ERRORS)
-def size_base_circle(body: BaseCircleRequest, service: Service) -> Response:
+def size_base_circle(body: Annotated[BaseCircleRequest, Body(openapi_examples=BASE_CIRCLE_EXAMPLES)],
+                     service: Service) -> Response:
     """The smallest base radius meeting a pressure-angle limit and/or a curvature limit."""
     result = service.base_circle(body.profile, body.max_pressure_angle_deg, body.min_radius_of_curvature_mm)
     return JSONBody(result)
