@@ -1,4 +1,10 @@
-"""/v1/profiles: plate-cam contours with checks, contour export, base-circle sizing."""
+"""/v1/profiles: plate-cam contours with checks, contour export, base-circle sizing.
+
+``computeProfile`` answers JSON, or a file on ``?format=`` (csv, dxf, xyz, contour-csv); each
+file also has an operation of its own (``/table.csv``, ``/contour.dxf``, ``/contour.xyz``,
+``/contour.csv``) whose only answer is that file, for generated clients, which read one media
+type per operation.
+"""
 
 from __future__ import annotations
 
@@ -20,7 +26,7 @@ from ..profile_schemas import (
 from ..profiles import UNBOUNDED_COLUMNS, ProfileService
 from ..responses import JSONBody, check_finite, table_response, wants_csv
 from ..routing import OrjsonRoute
-from .curves import ERRORS
+from .curves import CSV_FILE, ERRORS
 
 router = APIRouter(prefix="/v1/profiles", tags=["profiles"], route_class=OrjsonRoute)
 Service = Annotated[ProfileService, Depends(profile_service)]
@@ -33,6 +39,13 @@ EXPORTS = {
     },
     "description": "Columns and checks as JSON; the table as CSV; the contour as DXF or X Y Z text",
 }
+DXF_FILE = {"content": {"application/dxf": {"schema": {"type": "string", "format": "binary"}}},
+            "description": "The contour as a DXF drawing (mm)"}
+XYZ_FILE = {"content": {"text/plain": {"schema": {"type": "string"}}},
+            "description": "The contour as plain text, one 'X Y Z' point per line (mm, Z = 0)"}
+CONTOUR_CSV_FILE = {"content": {"text/csv": {"schema": {"type": "string"}}},
+                    "description": "The contour as CSV: cam_angle_deg, x_mm, y_mm, z_mm (= 0)"}
+ProfileBody = Annotated[ProfileRequest, Body(openapi_examples=PROFILE_EXAMPLES)]
 
 
 @router.post("", operation_id="computeProfile", response_model=ProfileAnswer, responses={**ERRORS, 200: EXPORTS})
@@ -56,6 +69,43 @@ def compute_profile(
         return table_response({k: np.asarray(v) for k, v in columns.items()}, True, filename="profile.csv",
                               allow_null=UNBOUNDED_COLUMNS)
     return JSONBody({**columns, "checks": service.checks(result)})
+
+
+@router.post("/table.csv", operation_id="computeProfileCsv", response_class=Response,
+             responses={**ERRORS, 200: CSV_FILE})
+def compute_profile_csv(body: ProfileBody, service: Service) -> Response:
+    """The columns of ``computeProfile`` as CSV (null radius = an empty cell: a straight stretch)."""
+    columns = service.columns(service.profile(body.profile, body.samples, body.cam_angle_deg))
+    check_finite({k: v for k, v in columns.items() if k not in UNBOUNDED_COLUMNS})
+    return table_response({k: np.asarray(v) for k, v in columns.items()}, True, filename="profile.csv",
+                          allow_null=UNBOUNDED_COLUMNS)
+
+
+@router.post("/contour.dxf", operation_id="exportProfileDxf", response_class=Response,
+             responses={**ERRORS, 200: DXF_FILE})
+def export_profile_dxf(body: ProfileBody, service: Service) -> Response:
+    """The cam contour as DXF (``computeProfile`` with ``?format=dxf``)."""
+    return _contour_file(body, service, "dxf")
+
+
+@router.post("/contour.xyz", operation_id="exportProfileXyz", response_class=Response,
+             responses={**ERRORS, 200: XYZ_FILE})
+def export_profile_xyz(body: ProfileBody, service: Service) -> Response:
+    """The cam contour as X Y Z text (``computeProfile`` with ``?format=xyz``)."""
+    return _contour_file(body, service, "xyz")
+
+
+@router.post("/contour.csv", operation_id="exportProfileContourCsv", response_class=Response,
+             responses={**ERRORS, 200: CONTOUR_CSV_FILE})
+def export_profile_contour_csv(body: ProfileBody, service: Service) -> Response:
+    """The cam contour as CSV (``computeProfile`` with ``?format=contour-csv``)."""
+    return _contour_file(body, service, "csv")
+
+
+def _contour_file(body: ProfileRequest, service: ProfileService, fmt: str) -> Response:
+    result = service.profile(body.profile, body.samples, body.cam_angle_deg)
+    payload, media, name = service.export(result, fmt, body.profile.base_radius_mm)
+    return Response(payload, media_type=media, headers={"Content-Disposition": f'attachment; filename="{name}"'})
 
 
 @router.post("/base-circle", operation_id="sizeBaseCircle", response_model=BaseCircleAnswer, responses=ERRORS)
