@@ -7,7 +7,7 @@ from typing import Annotated, Literal
 from fastapi.openapi.models import Example
 from pydantic import BaseModel, Field, model_validator
 
-from .schemas import BIG, MS_SPEC, BezierCurveSpec, CurveSpec, PointsCurveSpec, Spec, examples
+from .schemas import BIG, MS_SPEC, BezierCurveSpec, CurveSpec, DefaultsInDescriptions, PointsCurveSpec, Spec, examples
 
 Length = Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]
 PositiveLength = Annotated[float, Field(allow_inf_nan=False, gt=0, le=BIG)]
@@ -166,12 +166,12 @@ class ProfileChecksAnswer(BaseModel):
     face_width_mm: float | None
 
 
-class ProfileAnswer(BaseModel):
+class ProfileAnswer(DefaultsInDescriptions):
     """Columns over cam_angle_deg; radius columns are null where the surface is straight."""
 
     cam_angle_deg: list[float]
-    lift_mm: list[float] | None = None
-    swing_deg: list[float] | None = None
+    lift_mm: list[float] | None = Field(None, description="translating follower (absent for an oscillating one)")
+    swing_deg: list[float] | None = Field(None, description="oscillating follower (absent for a translating one)")
     x_mm: list[float]
     y_mm: list[float]
     pitch_x_mm: list[float]
@@ -179,7 +179,8 @@ class ProfileAnswer(BaseModel):
     pressure_angle_deg: list[float]
     radius_of_curvature_mm: list[float | None]
     pitch_radius_of_curvature_mm: list[float | None]
-    contact_offset_mm: list[float] | None = None
+    contact_offset_mm: list[float] | None = Field(
+        None, description="flat-faced follower: where the face touches the cam (absent otherwise)")
     checks: ProfileChecksAnswer
 
 

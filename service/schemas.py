@@ -8,11 +8,14 @@ service layer, which answers 413 naming the limit.
 
 from __future__ import annotations
 
+import json
 from collections.abc import Mapping
 from typing import Annotated, Any, Literal, Self
 
 from fastapi.openapi.models import Example
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr, model_validator
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, GetJsonSchemaHandler, PrivateAttr, model_validator
+from pydantic.json_schema import JsonSchemaValue
+from pydantic_core import CoreSchema
 
 #: magnitude bound for dimensionless inputs: far beyond any cam, small enough that
 #: squares and products of a few of them stay finite in float64
@@ -46,7 +49,34 @@ def _number(value: object) -> object:
 QueryNumbers = Annotated[list[Annotated[Finite, BeforeValidator(_number)]], BeforeValidator(_split_commas)]
 
 
-class Spec(BaseModel):
+class DefaultsInDescriptions(BaseModel):
+    """In the OpenAPI document a field's default is stated in its description, not as ``default``.
+
+    openapi-typescript (v7, default options) types a property that has a ``default`` as always
+    present. For a request body that makes every defaulted field required in TypeScript (the
+    README's own bodies would not compile); for an answer field that is left out when it does
+    not apply, it promises a value that is not there. Such a field is optional: not listing it
+    in ``required`` says so to every generator, and the description keeps the value for people.
+    Single-value fields (the ``type`` tag of a curve spec) keep theirs: a tag is not a choice.
+    """
+
+    @classmethod
+    def __get_pydantic_json_schema__(cls, core_schema: CoreSchema, handler: GetJsonSchemaHandler) -> JsonSchemaValue:
+        schema = handler(core_schema)
+        for prop in handler.resolve_ref_schema(schema).get("properties", {}).values():
+            if "default" not in prop or "const" in prop:
+                continue
+            default = prop.pop("default")
+            if default is not None:  # None: "not given", already said by the null type
+                text = default if isinstance(default, str) else json.dumps(default)
+                description = prop.get("description", "").rstrip(".")
+                prop["description"] = f"{description}. Default: {text}." if description else f"Default: {text}."
+        return schema
+
+
+class Spec(DefaultsInDescriptions):
+    """A request model: unknown fields are refused, defaults are described (see the base class)."""
+
     model_config = ConfigDict(extra="forbid")
     _cache_key: str | None = PrivateAttr(None)
 
