@@ -82,7 +82,7 @@ def swagger_prefill(base_url: str, folder: Path) -> dict[str, str | None]:
         proc = subprocess.run([chromium(), *FLAGS, f"--user-data-dir={profile}", "--dump-dom", page.as_uri()],
                               capture_output=True, timeout=180, check=False)
     assert proc.returncode == 0, proc.stderr.decode(errors="replace")[-2000:]
-    found = re.search(r'<pre id="prefill">(.*?)</pre>', proc.stdout.decode(), re.S)
+    found = re.search(r'<pre id="prefill">(.*?)</pre>', proc.stdout.decode(), re.DOTALL)
     assert found and found.group(1) != "pending", "Swagger UI did not render the operations"
     return json.loads(html.unescape(found.group(1)))
 
