@@ -9,7 +9,19 @@ from __future__ import annotations
 
 
 class CamError(Exception):
-    """Base class of every error camcore raises on purpose."""
+    """Base class of every error camcore raises on purpose.
+
+    ``field`` names what the error is about, when the raiser knows: a path into the
+    arguments of the call that raised it, such as ``("s", 3)`` for the fourth value of
+    ``s``; empty when the error concerns the call as a whole. A caller may prefix it
+    with where those arguments came from (the service maps it to a request field).
+    """
+
+    field: tuple[str | int, ...] = ()
+
+    def __init__(self, *args: object, field: tuple[str | int, ...] = ()):
+        super().__init__(*args)
+        self.field = tuple(field)
 
 
 class InvalidParameterError(CamError, ValueError):
@@ -43,7 +55,7 @@ class UnknownCurveError(CamError, LookupError):
         self.name = name
         self.suggestions = suggestions
         hint = f" Did you mean: {', '.join(suggestions)}?" if suggestions else ""
-        super().__init__(f"No curve named '{name}' in the catalog.{hint}")
+        super().__init__(f"No curve named '{name}' in the catalog.{hint}", field=("name",))
 
 
 class GeometryError(InvalidParameterError):
@@ -53,12 +65,12 @@ class GeometryError(InvalidParameterError):
 class LimitExceededError(CamError):
     """The requested work is larger than a configured limit."""
 
-    def __init__(self, what: str, requested: int, limit: int):
+    def __init__(self, what: str, requested: int, limit: int, field: tuple[str | int, ...] = ()):
         self.what = what
         self.requested = requested
         self.limit = limit
         shown = str(requested) if abs(requested) < 10**18 else "more than 10^18"
-        super().__init__(f"{what} is {shown}, over the limit of {limit}.")
+        super().__init__(f"{what} is {shown}, over the limit of {limit}.", field=field)
 
 
 class NonFiniteResultError(CamError):

@@ -12,10 +12,11 @@ import numpy as np
 
 import camcore
 from camcore.curves import Curve
+from camcore.errors import LimitExceededError, NonMonotoneError
 from camcore.results import as_dict
-from camcore.errors import LimitExceededError
 
 from .cache import LRUCache
+from .errors import within
 from .responses import encode_table, encode_value
 from .schemas import (
     BezierCurveSpec,
@@ -27,7 +28,6 @@ from .schemas import (
     UniversalCurveSpec,
 )
 from .settings import Settings
-
 
 #: rows of a table worth a thread-pool hop: below this, on a curve already built, the work
 #: (0.07 ms for 101 rows of MS, ~1 ms for 1001 rows of a degree-20 Bezier) costs less than
@@ -44,20 +44,26 @@ class CurveService:
         self.tables: LRUCache[bytes] = LRUCache(settings.table_cache_size, settings.table_cache_max_bytes)
 
     # ------------------------------------------------------------------ limits
-    def check_limit(self, what: str, requested: int, limit: int) -> None:
+    def check_limit(self, what: str, requested: int, limit: int, field: tuple[str | int, ...] = ()) -> None:
+        """Raise LimitExceededError when ``requested`` is over ``limit``; ``field`` is the
+        request field that asked for it (e.g. ("samples",))."""
         if requested > limit:
-            raise LimitExceededError(what, requested, limit)
+            raise LimitExceededError(what, requested, limit, field=field)
 
     # ------------------------------------------------------------------ curves
-    def curve(self, spec: CurveSpec) -> Curve:
-        self._check_spec_size(spec)
-        return self.curves.get_or_create(spec.cache_key(), lambda: self._build(spec))
+    def curve(self, spec: CurveSpec, at: tuple[str | int, ...] = ("curve",)) -> Curve:
+        """The curve of a spec (cached); ``at`` is the spec's field in the request, where
+        an error in it is reported."""
+        with within(*at):
+            self._check_spec_size(spec)
+            return self.curves.get_or_create(spec.cache_key(), lambda: self._build(spec))
 
     def _check_spec_size(self, spec: CurveSpec) -> None:
         if isinstance(spec, BezierCurveSpec):
-            self.check_limit("Bezier degree", len(spec.control_points) - 1, self.settings.max_bezier_degree)
+            self.check_limit("Bezier degree", len(spec.control_points) - 1, self.settings.max_bezier_degree,
+                             ("control_points",))
         if isinstance(spec, PointsCurveSpec):
-            self.check_limit("number of points", len(spec.t), self.settings.max_curve_points)
+            self.check_limit("number of points", len(spec.t), self.settings.max_curve_points, ("t",))
 
     def _build(self, spec: CurveSpec) -> Curve:
         rise = self._build_rise(spec)
@@ -105,11 +111,11 @@ class CurveService:
     def table_columns(self, spec: CurveSpec, samples: int | None, t: list[float] | None) -> dict[str, np.ndarray]:
         curve = self.curve(spec)
         if t is not None:
-            self.check_limit("number of times t", len(t), self.settings.max_table_samples)
+            self.check_limit("number of times t", len(t), self.settings.max_table_samples, ("t",))
             times = np.asarray(t, dtype=np.float64)
         else:
             assert samples is not None
-            self.check_limit("table samples", samples, self.settings.max_table_samples)
+            self.check_limit("table samples", samples, self.settings.max_table_samples, ("samples",))
             times = curve.sample_times(samples)
         return curve.evaluate(times).columns()
 
@@ -119,8 +125,9 @@ class CurveService:
 
     def cached_table(self, spec: CurveSpec, samples: int, csv: bool) -> bytes:
         """A sampled table's encoded body (JSON or CSV), cached when it is small."""
-        self._check_spec_size(spec)
-        self.check_limit("table samples", samples, self.settings.max_table_samples)
+        with within("curve"):
+            self._check_spec_size(spec)
+        self.check_limit("table samples", samples, self.settings.max_table_samples, ("samples",))
 
         def build() -> bytes:
             return encode_table(self.table_columns(spec, samples, None), csv)
@@ -139,15 +146,18 @@ class CurveService:
     def inverse_columns(
         self, spec: CurveSpec, s: list[float], method: str, table_step: float, table_decimals: int | None
     ) -> dict[str, np.ndarray]:
-        self.check_limit("number of s values", len(s), self.settings.max_inverse_points)
+        self.check_limit("number of s values", len(s), self.settings.max_inverse_points, ("s",))
         curve = self.curve(spec)
         s_arr = np.asarray(s, dtype=np.float64)
         if method == "table":
             span = curve.t_end - curve.t_start
-            self.check_limit("inverse table rows", int(span / table_step) + 1, self.settings.max_table_samples)
-            vals = curve.inverse_table(s_arr, table_step, table_decimals)
+            self.check_limit("inverse table rows", int(span / table_step) + 1, self.settings.max_table_samples,
+                             ("table_step",))
+            with within("curve", only=NonMonotoneError):  # the curve cannot be inverted
+                vals = curve.inverse_table(s_arr, table_step, table_decimals)
             return {"s": s_arr, "t": vals.t, "v": vals.v, "a": vals.a}
-        t = curve.inverse(s_arr)
+        with within("curve", only=NonMonotoneError):
+            t = curve.inverse(s_arr)
         _s, v, a = curve.derivatives(t, 2)
         return {"s": s_arr, "t": t, "v": v, "a": a}
 

@@ -1,12 +1,22 @@
 """The one table mapping core exceptions to HTTP status codes, and the handlers.
 
 Every error answer has the same shape: ``{"detail": "<a sentence>", "errors": [...]}``
-where ``errors`` lists ``{"loc": [...], "msg": "..."}`` for validation problems.
+where ``errors`` lists ``{"loc": [...], "msg": "..."}``: for validation problems, and for
+domain errors (unknown curve, out of stroke, over a limit, any CamError) the request field
+the error is about, as far as it is known, with the same sentence as ``detail``.
+
+Locating a domain error: camcore names the argument it is about (``CamError.field``, e.g.
+``("s", 3)``); the service, which knows where it took that argument from, prefixes it
+(:func:`within`, :func:`relocate`); the handler puts "body" (POST) or "query" (GET) in
+front, unless the location already starts with "path". Unlocated errors point at the
+request as a whole (``["body"]`` or ``["query"]``).
 """
 
 from __future__ import annotations
 
 import logging
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import Any
 
 from fastapi import FastAPI, Request
@@ -41,6 +51,53 @@ DEFAULT_STATUS_CODES: dict[type[Exception], int] = {
 
 
 
+#: attribute holding a CamError's location in the request (below "body"/"query"), once known
+_REQUEST_FIELD = "request_field"
+
+
+def request_field(exc: CamError) -> tuple[str | int, ...]:
+    """Where in the request a domain error lies: as located by the service, or the core's own
+    field (the service passes request fields to camcore under their own names: s,
+    output_angle_deg), or () for the request as a whole."""
+    located = getattr(exc, _REQUEST_FIELD, None)
+    return exc.field if located is None else located
+
+
+@contextmanager
+def within(*parts: str | int, keep_field: bool = True,
+           only: type[CamError] = CamError) -> Iterator[None]:
+    """A CamError (of type ``only``) raised inside is about the request field ``parts``
+    (followed by the error's own field, unless ``keep_field`` is false). The innermost
+    ``within`` decides."""
+    try:
+        yield
+    except only as exc:
+        if getattr(exc, _REQUEST_FIELD, None) is None:
+            setattr(exc, _REQUEST_FIELD, (*parts, *exc.field) if keep_field else parts)
+        raise
+
+
+@contextmanager
+def relocate(old: tuple[str | int, ...], new: tuple[str | int, ...], keep_rest: bool = True) -> Iterator[None]:
+    """A CamError raised inside whose location starts with ``old`` is at ``new`` instead,
+    followed by the rest of its location unless ``keep_rest`` is false (for a spec the route
+    built from path or query parameters: its fields are those parameters)."""
+    try:
+        yield
+    except CamError as exc:
+        located = request_field(exc)
+        if located[: len(old)] == old:
+            setattr(exc, _REQUEST_FIELD, (*new, *located[len(old):]) if keep_rest else new)
+        raise
+
+
+def error_loc(request: Request, exc: CamError) -> list[str | int]:
+    located = request_field(exc)
+    if located[:1] == ("path",):
+        return list(located)
+    return ["query" if request.method in ("GET", "HEAD") else "body", *located]
+
+
 def status_for(exc: Exception) -> int:
     for cls in type(exc).__mro__:
         if cls in DEFAULT_STATUS_CODES:
@@ -67,6 +124,7 @@ def error_body(detail: str, errors: list[dict[str, Any]] | None = None, **extra:
 
 
 async def cam_error_handler(request: Request, exc: Exception) -> JSONBody:
+    assert isinstance(exc, CamError)
     status = status_for(exc)
     extra: dict[str, Any] = {}
     if isinstance(exc, UnknownCurveError):
@@ -75,7 +133,8 @@ async def cam_error_handler(request: Request, exc: Exception) -> JSONBody:
         # a fuzzer may ask for more than 64 bits hold; the sentence still carries the number
         requested = exc.requested if abs(exc.requested) < 2**63 else None
         extra["limit"] = {"name": exc.what, "requested": requested, "limit": exc.limit}
-    return JSONBody(error_body(str(exc), **extra), status_code=status)
+    errors = [{"loc": error_loc(request, exc), "msg": str(exc)}]
+    return JSONBody(error_body(str(exc), errors, **extra), status_code=status)
 
 
 async def validation_error_handler(request: Request, exc: Exception) -> JSONBody:

@@ -4,18 +4,26 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
+from fastapi.openapi.models import Example
 from pydantic import BaseModel, Field, model_validator
 
-from .schemas import BIG, CurveSpec, NamedCurveSpec, Spec
+from .schemas import BIG, MS_SPEC, CurveSpec, NamedCurveSpec, Spec, examples
 
 #: physical lower bounds: a subnormal speed or time would make th² underflow to zero
 Positive = Annotated[float, Field(allow_inf_nan=False, ge=1e-6, le=BIG)]
 NonNegative = Annotated[float, Field(allow_inf_nan=False, ge=0, le=BIG)]
 
+#: the guide's worked example: 6 stops, θh = 270°, MS, 60 rpm (INDEXMAN technical guide)
+INDEXER_EXAMPLE: dict[str, object] = {"stops": 6, "indexing_angle_deg": 270, "speed_rpm": 60, "curve": MS_SPEC}
+#: and its load: a 50 kg disc of Ø600 mm, friction μ = 0.1 at R = 200 mm, service factor 1.5
+LOAD_EXAMPLE: dict[str, object] = {"parts": [{"shape": "disc", "mass_kg": 50, "diameter_mm": 600}],
+                                   "friction_coefficient": 0.1, "friction_radius_mm": 200, "service_factor": 1.5}
+
 
 class IndexerSpec(Spec):
     """A cam indexer (stops) or oscillating unit (swing angle) at constant input speed."""
 
+    model_config = examples(INDEXER_EXAMPLE)
     stops: int | None = Field(None, ge=1, le=100_000, description="n, stops per output turn")
     swing_angle_deg: Annotated[float, Field(allow_inf_nan=False, ge=1e-6, le=360)] | None = Field(
         None, description="ψ, output swing of an oscillating unit (instead of stops)")
@@ -44,6 +52,7 @@ class IndexerSpec(Spec):
 class LoadPartSpec(Spec):
     """A part of the load; its own axis is offset_mm from the output axis."""
 
+    model_config = examples({"shape": "disc", "mass_kg": 50, "diameter_mm": 600})
     shape: Literal["disc", "ring", "block", "point"]
     mass_kg: NonNegative
     diameter_mm: NonNegative | None = None
@@ -70,6 +79,7 @@ class LoadPartSpec(Spec):
 class LoadSpec(Spec):
     """What the output drives: inertia, friction, work torque, service factor, efficiency."""
 
+    model_config = examples(LOAD_EXAMPLE)
     inertia_kgm2: NonNegative = Field(0.0, description="given directly, added to the parts")
     parts: list[LoadPartSpec] = Field(default_factory=list, max_length=1000)
     friction_coefficient: NonNegative | None = Field(None, description="μ, with friction_radius_mm")
@@ -93,11 +103,13 @@ class LoadSpec(Spec):
 
 
 class MotionRequest(Spec):
+    model_config = examples({"indexer": INDEXER_EXAMPLE, "samples": 101})
     indexer: IndexerSpec
     samples: int = Field(101, ge=2)
 
 
 class PositionRequest(Spec):
+    model_config = examples({"indexer": INDEXER_EXAMPLE, "output_angle_deg": [11]})
     indexer: IndexerSpec
     output_angle_deg: list[Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]] = Field(min_length=1)
     method: Literal["exact", "table"] = "exact"
@@ -106,8 +118,28 @@ class PositionRequest(Spec):
 
 
 class SizingRequest(Spec):
+    model_config = examples({"indexer": INDEXER_EXAMPLE, "load": LOAD_EXAMPLE})
     indexer: IndexerSpec
     load: LoadSpec
+
+
+#: request examples of the POST operations (Swagger UI pre-fills the first)
+MOTION_EXAMPLES: dict[str, Example] = {
+    "guide": {"summary": "6 stops, θh = 270°, MS, 60 rpm",
+              "description": "the guide's example: indexing time 0.75 s, ω max = Vm·60°/0.75 s = 2.457 rad/s",
+              "value": {"indexer": INDEXER_EXAMPLE, "samples": 101}},
+}
+POSITION_EXAMPLES: dict[str, Example] = {
+    "guide": {"summary": "where the output is at 11° (of 60°)",
+              "description": "the guide's example: S = 0.1833, T = 0.304, input ≈ 82.1°, ω ≈ 1.87 rad/s",
+              "value": {"indexer": INDEXER_EXAMPLE, "output_angle_deg": [11]}},
+}
+SIZING_EXAMPLES: dict[str, Example] = {
+    "guide": {"summary": "50 kg disc Ø600 mm, μ = 0.1 at 200 mm, service factor 1.5",
+              "description": "the guide's sizing example: I = m·D²/8 = 2.25 kg·m², "
+                             "friction torque μ·m·g·R = 9.81 N·m",
+              "value": {"indexer": INDEXER_EXAMPLE, "load": LOAD_EXAMPLE}},
+}
 
 
 class MotionSummaryAnswer(BaseModel):

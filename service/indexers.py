@@ -7,9 +7,11 @@ from typing import Any
 import numpy as np
 
 from camcore import indexer as core
+from camcore.errors import NonMonotoneError
 from camcore.results import as_dict
 
 from .core import CurveService
+from .errors import within
 from .indexer_schemas import IndexerSpec, LoadSpec
 
 
@@ -20,42 +22,50 @@ class IndexerService:
         self.curves = curves
 
     def indexer(self, spec: IndexerSpec) -> core.Indexer:
-        return core.Indexer(
-            stops=spec.stops,
-            swing_angle_deg=spec.swing_angle_deg,
-            indexing_angle_deg=spec.indexing_angle_deg,
-            dwells=spec.dwells,
-            speed_rpm=spec.speed_rpm,
-            cycle_time_s=spec.cycle_time_s,
-            input_stop_time_s=spec.input_stop_time_s,
-            curve=self.curves.curve(spec.curve),
-        )
+        curve = self.curves.curve(spec.curve, at=("indexer", "curve"))
+        with within("indexer"):
+            return core.Indexer(
+                stops=spec.stops,
+                swing_angle_deg=spec.swing_angle_deg,
+                indexing_angle_deg=spec.indexing_angle_deg,
+                dwells=spec.dwells,
+                speed_rpm=spec.speed_rpm,
+                cycle_time_s=spec.cycle_time_s,
+                input_stop_time_s=spec.input_stop_time_s,
+                curve=curve,
+            )
 
     def motion(self, spec: IndexerSpec, samples: int) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
-        self.curves.check_limit("table samples", samples, self.curves.settings.max_table_samples)
+        self.curves.check_limit("table samples", samples, self.curves.settings.max_table_samples, ("samples",))
         result = self.indexer(spec).motion(samples)
         return as_dict(result.summary), result.table.columns()
 
     def position(self, spec: IndexerSpec, output_angle_deg: list[float], method: str, table_step: float,
                  table_decimals: int | None) -> dict[str, np.ndarray]:
         self.curves.check_limit("number of output angles", len(output_angle_deg),
-                                self.curves.settings.max_inverse_points)
-        result = self.indexer(spec).position(np.asarray(output_angle_deg, dtype=np.float64), method=method,
-                                             table_step=table_step, table_decimals=table_decimals)
+                                self.curves.settings.max_inverse_points, ("output_angle_deg",))
+        unit = self.indexer(spec)
+        with within("indexer", "curve", only=NonMonotoneError):  # the curve cannot be inverted
+            result = unit.position(np.asarray(output_angle_deg, dtype=np.float64), method=method,
+                                   table_step=table_step, table_decimals=table_decimals)
         return result.columns()
 
     def sizing(self, spec: IndexerSpec, load: LoadSpec) -> dict[str, Any]:
-        parts = [core.LoadPart(**p.model_dump()) for p in load.parts]
-        core_load = core.Load(
-            inertia_kgm2=load.inertia_kgm2,
-            parts=parts,
-            friction_coefficient=load.friction_coefficient,
-            friction_radius_mm=load.friction_radius_mm,
-            friction_torque_nm=load.friction_torque_nm,
-            work_torque_nm=load.work_torque_nm,
-            service_factor=load.service_factor,
-            efficiency=load.efficiency,
-        )
+        parts = []
+        for i, part in enumerate(load.parts):
+            with within("load", "parts", i):
+                parts.append(core.LoadPart(**part.model_dump()))
+        with within("load"):
+            core_load = core.Load(
+                inertia_kgm2=load.inertia_kgm2,
+                parts=parts,
+                friction_coefficient=load.friction_coefficient,
+                friction_radius_mm=load.friction_radius_mm,
+                friction_torque_nm=load.friction_torque_nm,
+                work_torque_nm=load.work_torque_nm,
+                service_factor=load.service_factor,
+                efficiency=load.efficiency,
+            )
         result = core.size(self.indexer(spec), core_load, accuracy_arc_seconds=load.accuracy_arc_seconds,
                            accuracy_radius_mm=load.accuracy_radius_mm)
         return as_dict(result)

@@ -25,6 +25,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 import camcore
 
 from .core import CurveService
+from .errors import relocate, within
 from .indexer_schemas import IndexerSpec
 from .indexers import IndexerService
 from .profile_schemas import FollowerSpec, ProfileSpec, SegmentSpec
@@ -123,13 +124,16 @@ class PlotService:
         self.profiles = profiles
 
     def curve_plot(self, name: str, q: CurvePlotQuery) -> bytes:
-        entry = camcore.lookup(name)
+        with within("path"):
+            entry = camcore.lookup(name)
         curve = self.curves.curve(NamedCurveSpec(name=entry.id, direction=q.direction))
         values = curve.evaluate(curve.sample_times(q.samples))
         title = f"{entry.id} — {entry.name}" + (" (return)" if q.direction == "return" else "")
         return svaj_chart(values, curve.characteristics, title, q.format, q.dpi)
 
     def indexer_spec(self, q: IndexerPlotQuery) -> IndexerSpec:
+        with within("curve", keep_field=False):
+            camcore.lookup(q.curve)
         fields = q.model_dump(exclude={"format", "dpi", "samples", "curve"})
         try:
             return IndexerSpec(**fields, curve=NamedCurveSpec(name=q.curve))
@@ -138,7 +142,8 @@ class PlotService:
 
     def indexer_plot(self, q: IndexerPlotQuery) -> bytes:
         spec = self.indexer_spec(q)
-        summary, table = self.indexers.motion(spec, q.samples)
+        with relocate(("indexer",), ()):  # the indexer's fields are the query's
+            summary, table = self.indexers.motion(spec, q.samples)
         name = camcore.lookup(q.curve).id
         unit = f"{spec.stops} stops" if spec.stops is not None else f"swing {spec.swing_angle_deg:g}°"
         speed = f"{summary['speed_rpm']:g} rpm"
@@ -156,6 +161,8 @@ class PlotService:
         amount: dict[str, float | None] = (
             {"swing_deg": q.swing_deg if q.swing_deg is not None else 20.0} if oscillating
             else {"lift_mm": q.lift_mm if q.lift_mm is not None else 0.0})
+        with within("curve", keep_field=False):
+            camcore.lookup(q.curve)
         law = NamedCurveSpec(name=q.curve)
         try:
             segments = [SegmentSpec(type="rise", angle_deg=q.rise_deg, curve=law, **amount)]
@@ -178,7 +185,8 @@ class PlotService:
 
     def profile_plot(self, q: ProfilePlotQuery) -> bytes:
         spec = self.profile_spec(q)
-        result = self.profiles.profile(spec, q.samples, None)
+        with relocate(("profile",), (), keep_rest=False):  # the query is flat: point at all of it
+            result = self.profiles.profile(spec, q.samples, None)
         name = camcore.lookup(q.curve).id
         f = spec.follower
         roller = f", roller r = {f.roller_radius_mm:g} mm" if f.type == "roller" else ""

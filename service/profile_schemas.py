@@ -4,15 +4,29 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
+from fastapi.openapi.models import Example
 from pydantic import BaseModel, Field, model_validator
 
-from .schemas import BIG, BezierCurveSpec, CurveSpec, PointsCurveSpec, Spec
+from .schemas import BIG, MS_SPEC, BezierCurveSpec, CurveSpec, DefaultsInDescriptions, PointsCurveSpec, Spec, examples
 
 Length = Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]
 PositiveLength = Annotated[float, Field(allow_inf_nan=False, gt=0, le=BIG)]
 
+#: a roller cam, rise–dwell–return–dwell: 20 mm over 120° (MS), 60° dwell, return, 60° dwell
+ROLLER_PROFILE_EXAMPLE: dict[str, object] = {
+    "follower": {"type": "roller", "roller_radius_mm": 10}, "base_radius_mm": 40,
+    "segments": [{"type": "rise", "angle_deg": 120, "lift_mm": 20, "curve": MS_SPEC},
+                 {"type": "dwell", "angle_deg": 60}, {"type": "return", "angle_deg": 120, "lift_mm": 20},
+                 {"type": "dwell", "angle_deg": 60}]}
+#: a knife-edge cam rising 20 mm over 180° and returning (cycloid both ways)
+KNIFE_EDGE_PROFILE_EXAMPLE: dict[str, object] = {
+    "follower": {"type": "knife-edge"}, "base_radius_mm": 15,
+    "segments": [{"type": "rise", "angle_deg": 180, "lift_mm": 20},
+                 {"type": "return", "angle_deg": 180, "lift_mm": 20}]}
+
 
 class FollowerSpec(Spec):
+    model_config = examples({"type": "roller", "roller_radius_mm": 10})
     type: Literal["knife-edge", "roller", "flat-faced"] = "knife-edge"
     motion: Literal["translating", "oscillating"] = "translating"
     offset_mm: Length = Field(0.0, description="offset e of a translating follower's line of motion")
@@ -35,6 +49,7 @@ class FollowerSpec(Spec):
 class SegmentSpec(Spec):
     """One stretch of the lift schedule; its type sets the direction of its curve."""
 
+    model_config = examples({"type": "rise", "angle_deg": 120, "lift_mm": 20, "curve": MS_SPEC})
     type: Literal["rise", "dwell", "return"]
     angle_deg: Annotated[float, Field(allow_inf_nan=False, gt=0, le=360)]
     lift_mm: Annotated[float, Field(allow_inf_nan=False, ge=0, le=BIG)] | None = None
@@ -53,6 +68,7 @@ class SegmentSpec(Spec):
 
 
 class ProfileSpec(Spec):
+    model_config = examples(ROLLER_PROFILE_EXAMPLE)
     follower: FollowerSpec
     base_radius_mm: PositiveLength
     rotation: Literal["ccw", "cw"] = "ccw"
@@ -84,6 +100,7 @@ class ProfileSpec(Spec):
 
 
 class ProfileRequest(Spec):
+    model_config = examples({"profile": ROLLER_PROFILE_EXAMPLE, "samples": 361})
     profile: ProfileSpec
     samples: int | None = Field(None, ge=2, description="evenly over 0–360° of cam angle, both ends included")
     cam_angle_deg: list[Annotated[float, Field(allow_inf_nan=False, ge=-1e5, le=1e5)]] | None = None
@@ -100,6 +117,7 @@ class ProfileRequest(Spec):
 
 
 class BaseCircleRequest(Spec):
+    model_config = examples({"profile": KNIFE_EDGE_PROFILE_EXAMPLE, "max_pressure_angle_deg": 30})
     profile: ProfileSpec
     max_pressure_angle_deg: Annotated[float, Field(allow_inf_nan=False, gt=0, lt=90)] | None = None
     min_radius_of_curvature_mm: Annotated[float, Field(allow_inf_nan=False, ge=0, le=BIG)] | None = None
@@ -110,6 +128,27 @@ class BaseCircleRequest(Spec):
             if self.profile.follower.type != "flat-faced":
                 raise ValueError("give max_pressure_angle_deg and/or min_radius_of_curvature_mm")
         return self
+
+
+CONSTANT_VELOCITY: dict[str, object] = {"type": "named", "name": "constant-velocity"}
+#: request examples of the POST operations (Swagger UI pre-fills the first)
+PROFILE_EXAMPLES: dict[str, Example] = {
+    "roller": {"summary": "roller follower: rise 20 mm / dwell / return / dwell, 361 points",
+               "value": {"profile": ROLLER_PROFILE_EXAMPLE, "samples": 361}},
+    "knife-edge": {"summary": "knife-edge follower at given cam angles",
+                   "description": "Shinzato 1988, table 1 (constant velocity): pressure angle 21.56° at 10°",
+                   "value": {"profile": {**KNIFE_EDGE_PROFILE_EXAMPLE, "segments": [
+                       {"type": "rise", "angle_deg": 180, "lift_mm": 20, "curve": CONSTANT_VELOCITY},
+                       {"type": "return", "angle_deg": 180, "lift_mm": 20, "curve": CONSTANT_VELOCITY}]},
+                             "cam_angle_deg": [10, 30, 45, 120, 270]}},
+}
+BASE_CIRCLE_EXAMPLES: dict[str, Example] = {
+    "pressure-angle": {"summary": "smallest base circle for a pressure angle of at most 30°",
+                       "value": {"profile": KNIFE_EDGE_PROFILE_EXAMPLE, "max_pressure_angle_deg": 30}},
+    "roller": {"summary": "roller follower: 30° and a radius of curvature of at least 5 mm",
+               "value": {"profile": ROLLER_PROFILE_EXAMPLE, "max_pressure_angle_deg": 30,
+                         "min_radius_of_curvature_mm": 5}},
+}
 
 
 class ProfileChecksAnswer(BaseModel):
@@ -127,12 +166,12 @@ class ProfileChecksAnswer(BaseModel):
     face_width_mm: float | None
 
 
-class ProfileAnswer(BaseModel):
+class ProfileAnswer(DefaultsInDescriptions):
     """Columns over cam_angle_deg; radius columns are null where the surface is straight."""
 
     cam_angle_deg: list[float]
-    lift_mm: list[float] | None = None
-    swing_deg: list[float] | None = None
+    lift_mm: list[float] | None = Field(None, description="translating follower (absent for an oscillating one)")
+    swing_deg: list[float] | None = Field(None, description="oscillating follower (absent for a translating one)")
     x_mm: list[float]
     y_mm: list[float]
     pitch_x_mm: list[float]
@@ -140,7 +179,8 @@ class ProfileAnswer(BaseModel):
     pressure_angle_deg: list[float]
     radius_of_curvature_mm: list[float | None]
     pitch_radius_of_curvature_mm: list[float | None]
-    contact_offset_mm: list[float] | None = None
+    contact_offset_mm: list[float] | None = Field(
+        None, description="flat-faced follower: where the face touches the cam (absent otherwise)")
     checks: ProfileChecksAnswer
 
 

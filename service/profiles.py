@@ -11,6 +11,7 @@ from camcore import profile as core
 from camcore.results import as_dict
 
 from .core import CurveService
+from .errors import within
 from .profile_schemas import ProfileSpec
 
 #: columns where an infinite value is meaningful (a straight stretch of surface) and is
@@ -31,24 +32,30 @@ class ProfileService:
                                  pivot_distance_mm=f.pivot_distance_mm)
         radius = spec.base_radius_mm if base_radius_mm is None else base_radius_mm
         if spec.segments is not None:
-            segments = [
-                core.Segment(kind=s.type, angle_deg=s.angle_deg, lift_mm=s.lift_mm or 0.0,
-                             swing_deg=s.swing_deg, curve=None if s.curve is None else self.curves.curve(s.curve))
-                for s in spec.segments
-            ]
-            return core.make_cam(follower, radius, segments=segments, rotation=spec.rotation,
-                                 rotation_ratio=spec.rotation_ratio)
+            segments = []
+            for i, s in enumerate(spec.segments):
+                law = None if s.curve is None else self.curves.curve(s.curve, at=("profile", "segments", i, "curve"))
+                with within("profile", "segments", i):
+                    segments.append(core.Segment(kind=s.type, angle_deg=s.angle_deg, lift_mm=s.lift_mm or 0.0,
+                                                 swing_deg=s.swing_deg, curve=law))
+            with within("profile"):
+                return core.make_cam(follower, radius, segments=segments, rotation=spec.rotation,
+                                     rotation_ratio=spec.rotation_ratio)
         assert spec.lift is not None
-        return core.make_cam(follower, radius, lift_curve=self.curves.curve(spec.lift), rotation=spec.rotation,
-                             rotation_ratio=spec.rotation_ratio)
+        lift = self.curves.curve(spec.lift, at=("profile", "lift"))
+        with within("profile"):
+            return core.make_cam(follower, radius, lift_curve=lift, rotation=spec.rotation,
+                                 rotation_ratio=spec.rotation_ratio)
 
     def profile(self, spec: ProfileSpec, samples: int | None, cam_angle_deg: list[float] | None) -> core.ProfileResult:
         n = len(cam_angle_deg) if cam_angle_deg is not None else int(samples or 361)
-        self.curves.check_limit("profile samples", n, self.curves.settings.max_table_samples)
+        self.curves.check_limit("profile samples", n, self.curves.settings.max_table_samples,
+                                ("cam_angle_deg",) if cam_angle_deg is not None else ("samples",))
         cam = self.cam(spec)
-        if cam_angle_deg is not None:
-            return core.compute_profile(cam, np.asarray(cam_angle_deg, dtype=np.float64))
-        return core.sample_profile(cam, n)
+        with within("profile"):
+            if cam_angle_deg is not None:
+                return core.compute_profile(cam, np.asarray(cam_angle_deg, dtype=np.float64))
+            return core.sample_profile(cam, n)
 
     @staticmethod
     def columns(result: core.ProfileResult) -> dict[str, Any]:
@@ -66,7 +73,8 @@ class ProfileService:
 
     def base_circle(self, spec: ProfileSpec, max_pressure_angle_deg: float | None,
                     min_radius_of_curvature_mm: float | None) -> dict[str, Any]:
-        result = core.size_base_circle(self.cam(spec), max_pressure_angle_deg, min_radius_of_curvature_mm)
+        cam = self.cam(spec)
+        result = core.size_base_circle(cam, max_pressure_angle_deg, min_radius_of_curvature_mm)
         return as_dict(result)
 
     @staticmethod

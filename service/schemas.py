@@ -8,10 +8,14 @@ service layer, which answers 413 naming the limit.
 
 from __future__ import annotations
 
+import json
 from collections.abc import Mapping
 from typing import Annotated, Any, Literal, Self
 
-from pydantic import BaseModel, ConfigDict, Field, PrivateAttr, model_validator
+from fastapi.openapi.models import Example
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, GetJsonSchemaHandler, PrivateAttr, model_validator
+from pydantic.json_schema import JsonSchemaValue
+from pydantic_core import CoreSchema
 
 #: magnitude bound for dimensionless inputs: far beyond any cam, small enough that
 #: squares and products of a few of them stay finite in float64
@@ -21,7 +25,58 @@ Finite = Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]
 Direction = Literal["rise", "return"]
 
 
-class Spec(BaseModel):
+def _split_commas(values: object) -> object:
+    """Query values, each possibly a comma-separated list: ?s=0.1&s=0.2,0.3 → [0.1, 0.2, 0.3]."""
+    if isinstance(values, str):
+        values = [values]
+    if not isinstance(values, list):
+        return values
+    return [part.strip() for raw in values for part in str(raw).split(",") if part.strip()]
+
+
+def _number(value: object) -> object:
+    if isinstance(value, str):
+        try:
+            return float(value)
+        except ValueError:
+            raise ValueError(f"'{value[:40]}' is not a number") from None
+    return value
+
+
+#: a list of finite numbers in a query string: repeat the parameter or separate by commas
+#: (a spreadsheet cell builds ?s=0.1,0.2 more easily than ?s=0.1&s=0.2); typed as numbers in
+#: the OpenAPI document, so generated clients send numbers
+QueryNumbers = Annotated[list[Annotated[Finite, BeforeValidator(_number)]], BeforeValidator(_split_commas)]
+
+
+class DefaultsInDescriptions(BaseModel):
+    """In the OpenAPI document a field's default is stated in its description, not as ``default``.
+
+    openapi-typescript (v7, default options) types a property that has a ``default`` as always
+    present. For a request body that makes every defaulted field required in TypeScript (the
+    README's own bodies would not compile); for an answer field that is left out when it does
+    not apply, it promises a value that is not there. Such a field is optional: not listing it
+    in ``required`` says so to every generator, and the description keeps the value for people.
+    Single-value fields (the ``type`` tag of a curve spec) keep theirs: a tag is not a choice.
+    """
+
+    @classmethod
+    def __get_pydantic_json_schema__(cls, core_schema: CoreSchema, handler: GetJsonSchemaHandler) -> JsonSchemaValue:
+        schema = handler(core_schema)
+        for prop in handler.resolve_ref_schema(schema).get("properties", {}).values():
+            if "default" not in prop or "const" in prop:
+                continue
+            default = prop.pop("default")
+            if default is not None:  # None: "not given", already said by the null type
+                text = default if isinstance(default, str) else json.dumps(default)
+                description = prop.get("description", "").rstrip(".")
+                prop["description"] = f"{description}. Default: {text}." if description else f"Default: {text}."
+        return schema
+
+
+class Spec(DefaultsInDescriptions):
+    """A request model: unknown fields are refused, defaults are described (see the base class)."""
+
     model_config = ConfigDict(extra="forbid")
     _cache_key: str | None = PrivateAttr(None)
 
@@ -40,10 +95,24 @@ class Spec(BaseModel):
         return copy
 
 
+def examples(*values: dict[str, Any]) -> ConfigDict:
+    """A model's complete, valid examples, for the OpenAPI document: tools that build a body
+    from the schema (Swagger UI's "Try it out" when an operation has no example of its own)
+    take the first, instead of combining field examples into a contradiction."""
+    return ConfigDict(json_schema_extra={"examples": list(values)})
+
+
+#: the guide's worked examples (INDEXMAN technical guide): the MS curve, Makino's universal
+#: curve with MS's break points (Makino 1977, No. 26)
+MS_SPEC: dict[str, Any] = {"type": "named", "name": "MS"}
+UNIVERSAL_MS_SPEC: dict[str, Any] = {"type": "universal", "t": [0, 0.125, 0.125, 0.5, 0.5, 0.875, 0.875, 1]}
+
+
 # ----------------------------------------------------------------------------- curve specs
 class NamedCurveSpec(Spec):
     """A catalog curve by id, alias or Makino number (case-insensitive)."""
 
+    model_config = examples(MS_SPEC, {"type": "named", "name": "cycloid", "direction": "return"})
     type: Literal["named"] = "named"
     name: str = Field(min_length=1, max_length=80, examples=["MS"])
     direction: Direction = "rise"
@@ -56,18 +125,21 @@ class MakinoCurveSpec(Spec):
     36: optional ``t1``; table-2 numbers take none.
     """
 
+    model_config = examples({"type": "makino", "number": 4, "t1": 0.0625, "t3": 0.25}, {"type": "makino", "number": 26})
     type: Literal["makino"] = "makino"
     number: int = Field(ge=1, le=99, examples=[4])
     z: Annotated[float, Field(allow_inf_nan=False, gt=0, le=1)] | None = None
     t4: Annotated[float, Field(allow_inf_nan=False, ge=0, lt=1)] | None = None
-    t1: Annotated[float, Field(allow_inf_nan=False, gt=0, le=0.5)] | None = None
-    t3: Annotated[float, Field(allow_inf_nan=False, gt=0, le=0.5)] | None = None
+    t1: Annotated[float, Field(allow_inf_nan=False, gt=0, le=0.5)] | None = Field(None, examples=[0.0625])
+    t3: Annotated[float, Field(allow_inf_nan=False, gt=0, le=0.5)] | None = Field(None, examples=[0.25])
     direction: Direction = "rise"
 
 
 class UniversalCurveSpec(Spec):
     """Makino's universal cam curve directly: break points and end conditions."""
 
+    model_config = examples(UNIVERSAL_MS_SPEC,
+                            {"type": "universal", "t": [0, 0.2, 0.2, 0.4, 0.4, 0.7, 0.7, 1], "m": 0.5})
     type: Literal["universal"] = "universal"
     t: list[Finite] = Field(min_length=8, max_length=8, description="break points T0..T7",
                             examples=[[0, 0.125, 0.125, 0.5, 0.5, 0.875, 0.875, 1]])
@@ -96,6 +168,7 @@ class UniversalCurveSpec(Spec):
 class BoundaryConditions(Spec):
     """Values at one end of a polynomial law; ``s`` is required, the rest optional."""
 
+    model_config = examples({"s": 0, "v": 0, "a": 0})
     s: Finite
     v: Finite | None = None
     a: Finite | None = None
@@ -105,6 +178,8 @@ class BoundaryConditions(Spec):
 class PolynomialCurveSpec(Spec):
     """A polynomial law by name, or the least-degree polynomial meeting end conditions."""
 
+    model_config = examples({"type": "polynomial", "name": "3-4-5"},
+                            {"type": "polynomial", "start": {"s": 0, "v": 0, "a": 0}, "end": {"s": 1, "v": 0, "a": 0}})
     type: Literal["polynomial"] = "polynomial"
     name: Literal["3-4-5", "4-5-6-7", "constant-velocity"] | None = None
     start: BoundaryConditions | None = None
@@ -123,6 +198,7 @@ class PolynomialCurveSpec(Spec):
 class BezierCurveSpec(Spec):
     """Lift h [mm] over drive angle θ [deg] as a Bezier curve in the (θ, h) plane."""
 
+    model_config = examples({"type": "bezier", "control_points": [[0, 0], [30, 0], [60, 10], [90, 10]]})
     type: Literal["bezier"] = "bezier"
     control_points: list[tuple[Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)],
                                Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]]] = Field(
@@ -134,9 +210,10 @@ class BezierCurveSpec(Spec):
 class PointsCurveSpec(Spec):
     """A measured or spreadsheet table (t, s), interpolated by a smooth spline."""
 
+    model_config = examples({"type": "points", "t": [0, 10, 20, 30, 40], "s": [0, 1, 4, 7, 8]})
     type: Literal["points"] = "points"
-    t: list[Finite] = Field(min_length=2, description="strictly increasing")
-    s: list[Finite] = Field(min_length=2)
+    t: list[Finite] = Field(min_length=2, description="strictly increasing", examples=[[0, 10, 20, 30, 40]])
+    s: list[Finite] = Field(min_length=2, examples=[[0, 1, 4, 7, 8]])
     v: list[Finite] | None = Field(None, description="optional slopes ds/dt at the points")
     direction: Direction = "rise"
 
@@ -160,10 +237,12 @@ CurveSpec = Annotated[
 
 # ----------------------------------------------------------------------------- curve requests
 class CharacteristicsRequest(Spec):
+    model_config = examples({"curve": MS_SPEC})
     curve: CurveSpec
 
 
 class TableRequest(Spec):
+    model_config = examples({"curve": MS_SPEC, "samples": 101})
     curve: CurveSpec
     samples: int | None = Field(None, ge=2, description="evenly spaced over [T0, T7], both ends included")
     t: list[Finite] | None = Field(None, description="explicit times T instead of samples")
@@ -180,6 +259,7 @@ class TableRequest(Spec):
 
 
 class InverseRequest(Spec):
+    model_config = examples({"curve": MS_SPEC, "s": [0.1833], "method": "exact"})
     curve: CurveSpec
     s: list[Finite] = Field(min_length=1, description="displacements S to look up")
     method: Literal["exact", "table"] = "exact"
@@ -187,6 +267,32 @@ class InverseRequest(Spec):
         0.01, description="row step of the table (method = table)")
     table_decimals: int | None = Field(
         None, ge=0, le=15, description="round the table as printed (the catalog prints 5)")
+
+
+#: request examples of the POST operations (Swagger UI pre-fills the first); numbers from the guide
+CHARACTERISTICS_EXAMPLES: dict[str, Example] = {
+    "MS": {"summary": "MS (modified sine)",
+           "description": "INDEXMAN MS: Vm = 1.76, Am = ±5.53, Qm = ±0.99", "value": {"curve": MS_SPEC}},
+    "universal": {"summary": "Makino's universal curve with MS's break points",
+                  "value": {"curve": UNIVERSAL_MS_SPEC}},
+}
+TABLE_EXAMPLES: dict[str, Example] = {
+    "MS": {"summary": "MS, 101 rows (T = 0, 0.01, …, 1)",
+           "description": "the catalog's MS table: row T = 0.30 has S = 0.17789",
+           "value": {"curve": MS_SPEC, "samples": 101}},
+    "universal": {"summary": "Makino's universal curve, 101 rows",
+                  "value": {"curve": UNIVERSAL_MS_SPEC, "samples": 101}},
+    "times": {"summary": "Makino curve 4 at given times",
+              "value": {"curve": {"type": "makino", "number": 4, "t1": 0.0625, "t3": 0.25}, "t": [0.1, 0.2, 0.3]}},
+}
+INVERSE_EXAMPLES: dict[str, Example] = {
+    "exact": {"summary": "T where S = 0.1833 on MS, exact",
+              "description": "the guide's example: an output angle of 11° of 60° is S = 0.1833; T ≈ 0.3040",
+              "value": {"curve": MS_SPEC, "s": [0.1833], "method": "exact"}},
+    "table": {"summary": "the same by the catalog's table method",
+              "description": "interpolation between rows T = 0.30 and 0.31 of the 5-decimal table: T = 0.304",
+              "value": {"curve": MS_SPEC, "s": [0.1833], "method": "table", "table_decimals": 5}},
+}
 
 
 # ----------------------------------------------------------------------------- curve answers
@@ -211,7 +317,9 @@ class CharacteristicsAnswer(BaseModel):
 
     vm: float
     t_vm: float
-    am: float = Field(description="largest |A|, the Am that normalises Q")
+    am: float = Field(description="largest |A|, the Am that normalises Q (the value of am_abs)")
+    am_abs: float = Field(description="largest |A| (= am), with its T like every other extreme")
+    t_am_abs: float = Field(description="T of the largest |A|, the earlier peak when Am+ and Am− tie")
     am_pos: float
     t_am_pos: float
     am_neg: float

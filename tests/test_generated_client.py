@@ -2,12 +2,15 @@
 
 ``openapi-python-client`` generates the package into a temporary folder (it is not committed:
 see docs/ecosystem.md); the service runs as users start it (``python -m service`` on a
-loopback port); the numbers that come back through the generated models are the catalog's.
+loopback port); the numbers that come back through the generated models are the catalog's,
+and the files (a CSV table, a DXF contour) come back as text and bytes a reader accepts.
 """
 
 from __future__ import annotations
 
+import csv
 import importlib
+import io
 import math
 import subprocess
 import sys
@@ -23,13 +26,15 @@ SPEC = ROOT / "openapi" / "openapi.json"
 PACKAGE = "camcore_client"
 pytestmark = pytest.mark.e2e
 
-#: no formatter post-hooks (ruff need not be on PATH); image answers are bytes (the generator
-#: knows application/json, text/* and application/octet-stream only)
+#: no formatter post-hooks (ruff need not be on PATH); image and DXF answers are bytes (the
+#: generator knows application/json, text/* and application/octet-stream only; the same file
+#: is in docs/ecosystem.md)
 CONFIG = """\
 post_hooks: []
 content_type_overrides:
   image/png: application/octet-stream
   image/svg+xml: application/octet-stream
+  application/dxf: application/octet-stream
 """
 
 
@@ -75,7 +80,10 @@ def test_generated_modules_read_well(client_package: ModuleType) -> None:
     modules = {str(p.relative_to(root / "api")) for p in (root / "api").rglob("*.py") if p.name != "__init__.py"}
     for expected in ("curves/sample_curve.py", "curves/invert_curve.py", "curves/sample_named_curve.py",
                      "curves/plot_curve.py", "indexers/size_indexer.py", "indexers/plot_indexer_motion.py",
-                     "profiles/compute_profile.py", "profiles/plot_profile.py", "service/get_health.py"):
+                     "profiles/compute_profile.py", "profiles/plot_profile.py", "service/get_health.py",
+                     "curves/sample_named_curve_csv.py", "curves/invert_curve_csv.py",
+                     "indexers/get_indexer_motion_csv.py", "profiles/export_profile_dxf.py",
+                     "profiles/export_profile_xyz.py", "profiles/export_profile_contour_csv.py"):
         assert expected in modules, sorted(modules)
     assert all(len(Path(m).stem) <= 30 for m in modules), sorted(modules)
 
@@ -148,3 +156,57 @@ def test_plot_curve_answers_image_bytes(api: Any) -> None:
     assert png.status_code == 200 and png.content[:8] == b"\x89PNG\r\n\x1a\n"
     bad = plot_curve.sync_detailed("MS", client=api, samples=100_000)
     assert bad.status_code == 422 and isinstance(bad.parsed, models.ErrorAnswer)
+
+
+def test_download_csv_table(api: Any) -> None:
+    models = module("models")
+    csv_table = module("api.curves.sample_named_curve_csv")
+    text = csv_table.sync("MS", client=api, samples=101)
+    assert isinstance(text, str), type(text)  # text/csv comes back as text, not a JSONDecodeError
+    rows = list(csv.reader(io.StringIO(text)))
+    assert rows[0] == ["t", "s", "v", "a", "j", "q"] and len(rows) == 102
+    # INDEXMAN MS table row T = 0.30: S = 0.17789; the last row ends at rest exactly
+    assert rows[31][0] == "0.3" and round(float(rows[31][1]), 5) == 0.17789
+    assert rows[-1][:4] == ["1.0", "1.0", "0.0", "0.0"]
+    posted = module("api.curves.sample_curve_csv").sync(
+        client=api, body=models.TableRequest(curve=models.NamedCurveSpec(name="MS"), samples=101))
+    assert posted == text  # the POST twin answers the same table
+
+
+def test_download_dxf_contour(api: Any) -> None:
+    import ezdxf
+
+    models = module("models")
+    export_dxf = module("api.profiles.export_profile_dxf")
+    rise = models.SegmentSpec(type_=models.SegmentSpecType.RISE, angle_deg=180, lift_mm=20)
+    back = models.SegmentSpec(type_=models.SegmentSpecType.RETURN, angle_deg=180, lift_mm=20)
+    spec = models.ProfileSpec(follower=models.FollowerSpec(type_=models.FollowerSpecType.KNIFE_EDGE),
+                              base_radius_mm=15, segments=[rise, back])
+    file = export_dxf.sync(client=api, body=models.ProfileRequest(profile=spec, samples=361))
+    data = file.payload.read()  # the generator's File: the answer's bytes
+    assert isinstance(data, bytes) and data.split(None, 2)[:2] == [b"0", b"SECTION"], data[:40]
+    doc = ezdxf.read(io.StringIO(data.decode("utf-8")))
+    polylines = doc.modelspace().query("LWPOLYLINE")
+    assert len(polylines) == 1 and polylines[0].closed
+    radii = [math.hypot(x, y) for x, y in polylines[0].get_points("xy")]
+    # a knife edge on a 15 mm base circle lifted 20 mm: the contour runs from r = 15 to r = 35 mm
+    # (1e-9 mm: the points are written with full float precision)
+    assert math.isclose(min(radii), 15, abs_tol=1e-9) and math.isclose(max(radii), 35, abs_tol=1e-9)
+    circles = doc.modelspace().query("CIRCLE")
+    assert [c.dxf.radius for c in circles] == [15.0]
+
+
+def test_download_contour_text_files(api: Any) -> None:
+    models = module("models")
+    rise = models.SegmentSpec(type_=models.SegmentSpecType.RISE, angle_deg=180, lift_mm=20)
+    back = models.SegmentSpec(type_=models.SegmentSpecType.RETURN, angle_deg=180, lift_mm=20)
+    body = models.ProfileRequest(profile=models.ProfileSpec(
+        follower=models.FollowerSpec(type_=models.FollowerSpecType.KNIFE_EDGE), base_radius_mm=15,
+        segments=[rise, back]), samples=361)
+    xyz = module("api.profiles.export_profile_xyz").sync(client=api, body=body)
+    points = [tuple(map(float, line.split())) for line in xyz.splitlines()]
+    assert len(points) == 361 and points[0] == points[-1] and all(p[2] == 0.0 for p in points)
+    contour = module("api.profiles.export_profile_contour_csv").sync(client=api, body=body)
+    assert contour.splitlines()[0] == "cam_angle_deg,x_mm,y_mm,z_mm"
+    table = module("api.profiles.compute_profile_csv").sync(client=api, body=body)
+    assert table.splitlines()[0].startswith("cam_angle_deg,")

@@ -359,7 +359,7 @@ class BezierCurve(Curve):
             raise DegenerateCurveError("a Bezier lift curve needs at least 2 control points.")
         degree = points.shape[0] - 1
         if degree > max_degree:
-            raise LimitExceededError("Bezier degree", degree, max_degree)
+            raise LimitExceededError("Bezier degree", degree, max_degree, field=("control_points",))
         bad = ~np.isfinite(points)
         if bad.any():
             i, j = (int(k) for k in np.argwhere(bad)[0])

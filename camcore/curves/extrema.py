@@ -31,13 +31,14 @@ _BRACKET_SAMPLES = 257
 class Characteristics:
     """Characteristic values of a curve over [T0, T7], from its closed form.
 
-    ``vm`` is the largest |V|; ``am`` the largest |A| (the Am that normalises Q), also
-    given with where it occurs as ``am_abs``. Negative extremes (``am_neg``, ``jm_neg``,
+    ``vm`` is the largest |V|; ``am`` the largest |A| (the Am that normalises Q), and
+    ``am_abs`` the same value with the T where it occurs, like every other extreme. Negative extremes (``am_neg``, ``jm_neg``,
     ``qm_neg``) are signed (≤ 0 for the standard curves), as Makino's AJKMM and QMM are.
     """
 
     vm: Extremum = field(metadata=doc("largest |V|"))
     am: float = field(metadata=doc("largest |A|, the Am that normalises Q"))
+    am_abs: Extremum = field(metadata=doc("largest |A| (= am) and where it occurs"))
     am_pos: Extremum = field(metadata=doc("largest A"))
     am_neg: Extremum = field(metadata=doc("smallest A (signed)"))
     jm_pos: Extremum = field(metadata=doc("largest J"))
@@ -174,10 +175,15 @@ def characteristics(curve: PiecewiseCurve) -> Characteristics:
     q_pos, q_neg = peaks_of(curve, t_all, k_all, acc * v)
     vm = v_max if abs(v_max.value) >= abs(v_min.value) else v_min
     am = max(abs(am_pos.value), abs(am_neg.value))
+    # the T of the largest |A|; the earlier of the two peaks when they tie, and they tie
+    # within a few ulps: Amp and Amm solved from eq. (11) differ by an ulp or two where
+    # the law makes them equal (m = 1: TR's Amp is 1 ulp below its Amm)
+    t_am = min(x.t for x in (am_pos, am_neg) if am - abs(x.value) <= 4 * float(np.spacing(am)))
     scale = 1.0 / am if am > 0 else 0.0
     return Characteristics(
         vm=Extremum(abs(vm.value), vm.t),
         am=am,
+        am_abs=Extremum(am, t_am),
         am_pos=am_pos,
         am_neg=am_neg,
         jm_pos=jm_pos,

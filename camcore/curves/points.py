@@ -348,7 +348,7 @@ class PointsCurve(Curve):
         t_arr = _as_vector("t", t)
         # the limit is checked before any O(n) work beyond reading the input
         if t_arr.size > max_points:
-            raise LimitExceededError("number of points", int(t_arr.size), max_points)
+            raise LimitExceededError("number of points", int(t_arr.size), max_points, field=("t",))
         s_arr = _as_vector("s", s)
         v_arr = _as_vector("v", v) if v is not None else None
         if s_arr.size != t_arr.size or (v_arr is not None and v_arr.size != t_arr.size):

@@ -38,4 +38,5 @@ class ReturnCurve(Curve):
 
     def eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
         vals = self.rise.eval_pieces(self._mirror - t, self.rise.n_pieces - 1 - piece, order)
-        return [v if i % 2 == 0 else -v for i, v in enumerate(vals)]
+        # 0 − x, not −x: a rise at rest (V = +0) gives a return at rest, not at −0
+        return [v if i % 2 == 0 else 0.0 - v for i, v in enumerate(vals)]

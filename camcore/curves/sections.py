@@ -138,6 +138,9 @@ class Section:
     """One section: starts at ``start`` and lasts ``length`` (> 0).
 
     Acceleration α + β sin(ωτ) + γ cos(ωτ) [dimensionless]; ω = 0 means constant α.
+    τ = T − start, or with ``from_end`` τ = T − (start + length) ≤ 0: the coefficients
+    then describe A about the section's end, where S and V are the curve's given end
+    values (only the last section may be so anchored).
     """
 
     start: float
@@ -146,6 +149,7 @@ class Section:
     beta: float = 0.0
     gamma: float = 0.0
     omega: float = 0.0
+    from_end: bool = False
 
 
 class SectionCurve(Curve):
@@ -158,18 +162,31 @@ class SectionCurve(Curve):
         dropped.
     s0, v0 : float
         Displacement and velocity at the first section's start.
+    s_end, v_end : float, optional
+        The law's exact S and V at the last section's end, required when that section
+        is given ``from_end``: it is then evaluated about its end, so that the curve
+        ends exactly there instead of at the sum of every section's gain, which misses
+        the end by a few ulps (V = 2.8e-16 at T = 1 for MS).
     """
 
-    def __init__(self, sections: list[Section], s0: float, v0: float):
+    def __init__(self, sections: list[Section], s0: float, v0: float,
+                 s_end: float | None = None, v_end: float | None = None):
         kept = [sec for sec in sections if sec.length > 0]
         if not kept:
             raise ValueError("a section curve needs at least one section of positive length")
+        if any(sec.from_end for sec in kept[:-1]):
+            raise ValueError("only the last section may be evaluated about its end")
+        if kept[-1].from_end and (s_end is None or v_end is None):
+            raise ValueError("a last section given from its end needs the end values s_end and v_end")
         # ω = 0: sin ωτ = 0, cos ωτ = 1, so the acceleration is the constant α + γ
-        kept = [sec if sec.omega > 0 else Section(sec.start, sec.length, alpha=sec.alpha + sec.gamma) for sec in kept]
+        kept = [sec if sec.omega > 0 else Section(sec.start, sec.length, alpha=sec.alpha + sec.gamma,
+                                                  from_end=sec.from_end) for sec in kept]
         self.sections = kept
         n = len(kept)
         self.piece_starts = np.array([sec.start for sec in kept], dtype=np.float64)
         self.t_end = float(kept[-1].start + kept[-1].length)
+        # τ is measured from each section's start, or from the end for a section from_end
+        anchor = self.piece_starts.copy()
         alpha = np.array([sec.alpha for sec in kept])
         beta = np.array([sec.beta for sec in kept])
         gamma = np.array([sec.gamma for sec in kept])
@@ -181,6 +198,10 @@ class SectionCurve(Curve):
         s, v = float(s0), float(v0)
         for k, sec in enumerate(kept):
             s_start[k], v_start[k] = s, v
+            if sec.from_end:  # the last section: its values are given at its end
+                anchor[k] = self.t_end
+                s_start[k], v_start[k] = float(s_end), float(v_end)  # type: ignore[arg-type]
+                break
             tau = sec.length
             w = sec.omega
             if w > 0:
@@ -199,7 +220,7 @@ class SectionCurve(Curve):
         # coefficient table, one row per section (gathered by section index); with
         # sin = 2q, 1 − cos = 2r, cos = 1 − 2r (doubling is exact):
         self._coef = {
-            "start": self.piece_starts,
+            "start": anchor,
             "half_omega": 0.5 * omega,
             "s": s_start,
             "v": v_start,

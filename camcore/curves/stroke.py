@@ -137,7 +137,8 @@ def validate_stroke(curve: PiecewiseCurve, s: FloatArray) -> None:
         i = int(np.nonzero(bad)[0][0])
         raise StrokeRangeError(
             f"s[{i}] = {float(s.reshape(-1)[i])!r} is outside the stroke of this curve, "
-            f"which runs from S = {curve.s_start!r} to S = {curve.s_end!r}."
+            f"which runs from S = {curve.s_start!r} to S = {curve.s_end!r}.",
+            field=("s", i),
         )
 
 

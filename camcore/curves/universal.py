@@ -134,9 +134,15 @@ class UniversalCurve(SectionCurve):
         Positive peak acceleration Amp and negative peak magnitude Amm.
     v0, s0 : float
         Velocity and displacement at T0.
+    s7, v7 : float, optional
+        The law's displacement and velocity at T7 (the targets the amplitudes were
+        solved for); omitted, they follow from eq. (11) and eqs. (2)-(8) in closed form.
+        The last section is evaluated about T7 from these, so the curve ends exactly
+        at them (and at A = 0 where section VII is a quarter wave down to rest).
     """
 
-    def __init__(self, t: Sequence[float], amp: float, amm: float, v0: float = 0.0, s0: float = 0.0):
+    def __init__(self, t: Sequence[float], amp: float, amm: float, v0: float = 0.0, s0: float = 0.0,
+                 s7: float | None = None, v7: float | None = None):
         pts = check_break_points(t)
         self.t = pts
         self.amp = float(amp)
@@ -144,21 +150,36 @@ class UniversalCurve(SectionCurve):
         self.v0 = float(v0)
         self.s0 = float(s0)
         t0, t1, t2, t3, t4, t5, t6, t7 = pts
+        if s7 is None or v7 is None:
+            p, n, cp, cn = _stroke_per_amplitude(pts)
+            s7 = self.s0 + self.v0 * (t7 - t0) + self.amp * p - self.amm * n if s7 is None else s7
+            v7 = self.v0 + self.amp * cp - self.amm * cn if v7 is None else v7
+        # (start, end, kind, amplitude) of sections I..VII: A = amplitude·sin or ·cos of
+        # a quarter wave over the section, or constant
+        shapes = [(t0, t1, "sin", self.amp), (t1, t2, "const", self.amp), (t2, t3, "cos", self.amp),
+                  (t3, t4, "const", 0.0), (t4, t5, "sin", -self.amm), (t5, t6, "const", -self.amm),
+                  (t6, t7, "cos", -self.amm)]
+        present = [i for i, (start, end, _, _) in enumerate(shapes) if end > start]
+        # a lone section keeps its start values (T0 exact); otherwise the last one is taken about T7
+        last = present[-1] if len(present) > 1 else -1
 
-        def quarter(start: float, end: float, beta: float = 0.0, gamma: float = 0.0) -> Section:
+        def section(i: int) -> Section:
+            start, end, kind, amplitude = shapes[i]
             length = end - start
-            return Section(start, length, beta=beta, gamma=gamma, omega=PI / (2 * length) if length > 0 else 0.0)
+            if kind == "const":
+                return Section(start, length, alpha=amplitude, from_end=i == last)
+            omega = PI / (2 * length) if length > 0 else 0.0
+            if i != last:
+                if kind == "sin":
+                    return Section(start, length, beta=amplitude, omega=omega)
+                return Section(start, length, gamma=amplitude, omega=omega)
+            # about the end, τ = T − end: sin(ω(T − start)) = cos ωτ, cos(ω(T − start)) = −sin ωτ
+            if kind == "sin":
+                return Section(start, length, gamma=amplitude, omega=omega, from_end=True)
+            return Section(start, length, beta=-amplitude, omega=omega, from_end=True)
 
-        sections = [
-            quarter(t0, t1, beta=self.amp),
-            Section(t1, t2 - t1, alpha=self.amp),
-            quarter(t2, t3, gamma=self.amp),
-            Section(t3, t4 - t3),
-            quarter(t4, t5, beta=-self.amm),
-            Section(t5, t6 - t5, alpha=-self.amm),
-            quarter(t6, t7, gamma=-self.amm),
-        ]
-        super().__init__(sections, s0=self.s0, v0=self.v0)
+        sections = [section(i) for i in range(7)]
+        super().__init__(sections, s0=self.s0, v0=self.v0, s_end=float(s7), v_end=float(v7))
 
     @property
     def m(self) -> float:
@@ -232,7 +253,7 @@ def universal_curve(
                 "follower no net distance, so no Amp reaches S7 (eq. 11 divides by zero)."
             )
         amp = rise / denominator
-        return UniversalCurve(pts, amp, m * amp, v0=v0, s0=s0)
+        return UniversalCurve(pts, amp, m * amp, v0=v0, s0=s0, s7=s7)
     v7 = v0 if v7 is None else finite("V7", v7)
     dv = v7 - v0
     det = -p * cn + n * cp
@@ -248,7 +269,7 @@ def universal_curve(
         )
     amp = (-rise * cn + n * dv) / det
     amm = (p * dv - cp * rise) / det
-    return UniversalCurve(pts, amp, amm, v0=v0, s0=s0)
+    return UniversalCurve(pts, amp, amm, v0=v0, s0=s0, s7=s7, v7=v7)
 
 
 # --------------------------------------------------------------------------- special curves
@@ -304,7 +325,8 @@ def cutting_feed(t4: float) -> UniversalCurve:
         raise InvalidParameterError(f"T4 must satisfy 0 ≤ T4 < 1, got {t4!r}.")
     amm = PI / (4.0 * (1.0 - t4) ** 2 / PI + 2.0 * (1.0 - t4) * t4)
     v0 = 2.0 * (1.0 - t4) * amm / PI
-    return UniversalCurve((0.0, 0.0, 0.0, 0.0, t4, 1.0, 1.0, 1.0), amp=0.0, amm=amm, v0=v0)
+    # the feed stops: S7 = 1 and V7 = 0 by construction
+    return UniversalCurve((0.0, 0.0, 0.0, 0.0, t4, 1.0, 1.0, 1.0), amp=0.0, amm=amm, v0=v0, s7=1.0, v7=0.0)
 
 
 def modified_constant_velocity(t1: float, t3: float) -> UniversalCurve:

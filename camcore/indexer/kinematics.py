@@ -420,7 +420,8 @@ class Indexer:
             i = int(np.nonzero(bad)[0][0])
             raise StrokeRangeError(
                 f"output_angle_deg[{i}] = {float(flat[i])!r} is outside the index, which moves the "
-                f"output from 0 to h = {h!r}°."
+                f"output from 0 to h = {h!r}°.",
+                field=("output_angle_deg", i),
             )
         c = self.curve
         d_t, d_s = self.spans

@@ -1,23 +1,31 @@
-"""/v1/curves: the catalog, characteristic values, tables and inverse lookups."""
+"""/v1/curves: the catalog, characteristic values, tables and inverse lookups.
+
+Each table operation answers JSON, or CSV on ``Accept: text/csv`` / ``?format=csv`` (for
+browsers and spreadsheets); its ``….csv`` twin answers only CSV, for generated clients,
+which read one media type per operation (openapi-python-client parses the first it knows).
+"""
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from typing import Annotated, Any, Literal
 
-from fastapi import APIRouter, Depends, Path, Query, Request
+from fastapi import APIRouter, Body, Depends, Path, Query, Request
 from fastapi.exceptions import RequestValidationError
 from starlette.concurrency import run_in_threadpool
 from starlette.responses import PlainTextResponse, Response
 
 import camcore
-from camcore.errors import InvalidParameterError
 
 from ..core import CurveService
 from ..deps import curve_service
+from ..errors import relocate, within
 from ..responses import JSONBody, encoded_response, wants_csv
 from ..routing import OrjsonRoute
 from ..schemas import (
+    CHARACTERISTICS_EXAMPLES,
+    INVERSE_EXAMPLES,
+    TABLE_EXAMPLES,
     CatalogAnswer,
     CatalogEntryAnswer,
     CharacteristicsAnswer,
@@ -28,6 +36,7 @@ from ..schemas import (
     InverseRequest,
     InverseTable,
     NamedCurveSpec,
+    QueryNumbers,
     TableRequest,
 )
 
@@ -40,6 +49,9 @@ ERRORS = {
     422: {"model": ErrorAnswer, "description": "Invalid request (field and reason given)"},
 }
 CSV = {"content": {"text/csv": {"schema": {"type": "string"}}}, "description": "Columns as JSON, or CSV"}
+#: the 200 answer of an operation that answers only CSV (the twin of a JSON table operation)
+CSV_FILE = {"content": {"text/csv": {"schema": {"type": "string"}}},
+            "description": "The table as CSV: a header row, then one row per point, one column per quantity"}
 Service = Annotated[CurveService, Depends(curve_service)]
 CurveName = Annotated[str, Path(min_length=1, max_length=80, description="id, alias or Makino number")]
 Format = Annotated[Literal["json", "csv"] | None, Query(description="csv for spreadsheets")]
@@ -54,25 +66,40 @@ def list_curves(service: Service) -> Response:
 @router.get("/{name}", operation_id="getCurve", response_model=CatalogEntryAnswer, responses=ERRORS)
 def get_curve(name: CurveName, service: Service) -> Response:
     """One catalog entry, by id, alias or Makino number (case-insensitive)."""
-    return JSONBody(service.catalog_entry(camcore.lookup(name)))
+    with within("path"):
+        return JSONBody(service.catalog_entry(camcore.lookup(name)))
 
 
 @router.post("/characteristics", operation_id="getCurveCharacteristics",
              response_model=CharacteristicsAnswer, responses=ERRORS)
-def characteristics(body: CharacteristicsRequest, service: Service) -> Response:
+def characteristics(body: Annotated[CharacteristicsRequest, Body(openapi_examples=CHARACTERISTICS_EXAMPLES)],
+                    service: Service) -> Response:
     """Vm, Am±, Jm±, Qm± (and raw A·V extremes) with the T where each occurs."""
     return JSONBody(service.characteristics(body.curve))
 
 
 @router.post("/table", operation_id="sampleCurve", response_model=CurveTable, responses={**ERRORS, 200: CSV})
-async def sample_curve(body: TableRequest, request: Request, service: Service) -> Response:
+async def sample_curve(body: Annotated[TableRequest, Body(openapi_examples=TABLE_EXAMPLES)], request: Request,
+                       service: Service) -> Response:
     """Columns t, s, v, a, j, q at evenly spaced samples or at given times."""
     csv = wants_csv(request)
+    return encoded_response(await _table(service, body, csv), csv)
+
+
+@router.post("/table.csv", operation_id="sampleCurveCsv", response_class=Response,
+             responses={**ERRORS, 200: CSV_FILE})
+async def sample_curve_csv(body: Annotated[TableRequest, Body(openapi_examples=TABLE_EXAMPLES)],
+                           service: Service) -> Response:
+    """The table of ``sampleCurve`` as CSV."""
+    return encoded_response(await _table(service, body, True), True)
+
+
+async def _table(service: CurveService, body: TableRequest, csv: bool) -> bytes:
     if body.samples is not None:
-        return encoded_response(await _sampled_table(service, body.curve, body.samples, csv), csv)
+        return await _sampled_table(service, body.curve, body.samples, csv)
     assert body.t is not None  # TableRequest requires samples or t
     quick = service.is_quick_table(body.curve, len(body.t))
-    return encoded_response(await _run(quick, service.table_at_times, body.curve, body.t, csv), csv)
+    return await _run(quick, service.table_at_times, body.curve, body.t, csv)
 
 
 async def _run(quick: bool, work: Callable[..., bytes], *args: Any) -> bytes:
@@ -100,15 +127,41 @@ async def sample_named_curve(
     format: Format = None,
 ) -> Response:
     """The table of a catalog curve, for spreadsheets (``?format=csv``)."""
-    csv = format == "csv"
-    return encoded_response(await _sampled_table(service, NamedCurveSpec(name=name, direction=direction), samples, csv), csv)
+    return await _named_table(service, name, samples, direction, format == "csv")
+
+
+@router.get("/{name}/table.csv", operation_id="sampleNamedCurveCsv", response_class=Response,
+            responses={**ERRORS, 200: CSV_FILE})
+async def sample_named_curve_csv(
+    name: CurveName,
+    service: Service,
+    samples: Annotated[int, Query(ge=2)] = 101,
+    direction: Literal["rise", "return"] = "rise",
+) -> Response:
+    """The table of a catalog curve as CSV (``sampleNamedCurve`` with ``?format=csv``)."""
+    return await _named_table(service, name, samples, direction, True)
+
+
+async def _named_table(service: CurveService, name: str, samples: int, direction: str, csv: bool) -> Response:
+    with relocate(("curve",), ("path",)):  # the spec's name is the path's
+        payload = await _sampled_table(service, NamedCurveSpec(name=name, direction=direction), samples, csv)
+    return encoded_response(payload, csv)
 
 
 @router.post("/inverse", operation_id="invertCurve", response_model=InverseTable, responses={**ERRORS, 200: CSV})
-async def invert_curve(body: InverseRequest, request: Request, service: Service) -> Response:
+async def invert_curve(body: Annotated[InverseRequest, Body(openapi_examples=INVERSE_EXAMPLES)], request: Request,
+                       service: Service) -> Response:
     """T (and V, A) where S(T) = s: exact, or the catalog's table interpolation."""
     return await _inverse(service, body.curve, body.s, body.method, body.table_step, body.table_decimals,
                           wants_csv(request))
+
+
+@router.post("/inverse.csv", operation_id="invertCurveCsv", response_class=Response,
+             responses={**ERRORS, 200: CSV_FILE})
+async def invert_curve_csv(body: Annotated[InverseRequest, Body(openapi_examples=INVERSE_EXAMPLES)],
+                           service: Service) -> Response:
+    """The answer of ``invertCurve`` as CSV."""
+    return await _inverse(service, body.curve, body.s, body.method, body.table_step, body.table_decimals, True)
 
 
 async def _inverse(service: CurveService, spec: CurveSpec, s: list[float], method: str, table_step: float,
@@ -118,31 +171,12 @@ async def _inverse(service: CurveService, spec: CurveSpec, s: list[float], metho
     return encoded_response(payload, csv)
 
 
-def _parse_numbers(values: list[str], name: str) -> list[float]:
-    out: list[float] = []
-    for raw in values:
-        for part in raw.split(","):
-            part = part.strip()
-            if not part:
-                continue
-            try:
-                x = float(part)
-            except ValueError:
-                raise InvalidParameterError(f"{name} must be numbers; '{part[:40]}' is not a number.") from None
-            if x != x or x in (float("inf"), float("-inf")):
-                raise InvalidParameterError(f"{name} must be finite numbers, not '{part[:40]}'.")
-            out.append(x)
-    if not out:
-        raise InvalidParameterError(f"give at least one {name} value, e.g. ?{name}=0.5")
-    return out
-
-
 @router.get("/{name}/inverse", operation_id="invertNamedCurve", response_model=InverseTable,
             responses={**ERRORS, 200: CSV})
 async def invert_named_curve(
     name: CurveName,
     service: Service,
-    s: Annotated[list[str], Query(description="S values: repeat ?s= or separate by commas")],
+    s: Annotated[QueryNumbers, Query(min_length=1, description="S values: repeat ?s= or separate by commas")],
     method: Literal["exact", "table"] = "exact",
     table_step: Annotated[float, Query(ge=1e-4, le=0.5)] = 0.01,
     table_decimals: Annotated[int | None, Query(ge=0, le=15)] = None,
@@ -151,8 +185,25 @@ async def invert_named_curve(
 ) -> Response:
     """The inverse lookup of a catalog curve, for spreadsheets (``?s=0.1833&format=csv``)."""
     spec = NamedCurveSpec(name=name, direction=direction)
-    return await _inverse(service, spec, _parse_numbers(s, "s"), method, table_step, table_decimals,
-                          format == "csv")
+    with relocate(("curve",), ("path",)):  # the spec's name is the path's
+        return await _inverse(service, spec, s, method, table_step, table_decimals, format == "csv")
+
+
+@router.get("/{name}/inverse.csv", operation_id="invertNamedCurveCsv", response_class=Response,
+            responses={**ERRORS, 200: CSV_FILE})
+async def invert_named_curve_csv(
+    name: CurveName,
+    service: Service,
+    s: Annotated[QueryNumbers, Query(min_length=1, description="S values: repeat ?s= or separate by commas")],
+    method: Literal["exact", "table"] = "exact",
+    table_step: Annotated[float, Query(ge=1e-4, le=0.5)] = 0.01,
+    table_decimals: Annotated[int | None, Query(ge=0, le=15)] = None,
+    direction: Literal["rise", "return"] = "rise",
+) -> Response:
+    """The inverse lookup of a catalog curve as CSV (``invertNamedCurve`` with ``?format=csv``)."""
+    spec = NamedCurveSpec(name=name, direction=direction)
+    with relocate(("curve",), ("path",)):
+        return await _inverse(service, spec, s, method, table_step, table_decimals, True)
 
 
 VALUE = {
@@ -196,4 +247,5 @@ async def curve_value(
     what = _value_query(t, s, quantity)
     spec = NamedCurveSpec(name=name, direction=direction)
     quick = service.is_quick_inverse(spec, 1, "exact") if s is not None else service.is_quick_table(spec, 1)
-    return PlainTextResponse(await _run(quick, service.value, spec, what, t, s))
+    with relocate(("curve",), ("path",)):  # the spec's name is the path's
+        return PlainTextResponse(await _run(quick, service.value, spec, what, t, s))

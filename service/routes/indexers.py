@@ -4,11 +4,14 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from fastapi import APIRouter, Depends, Query, Request
+from fastapi import APIRouter, Body, Depends, Query, Request
 from starlette.responses import Response
 
 from ..deps import indexer_service
 from ..indexer_schemas import (
+    MOTION_EXAMPLES,
+    POSITION_EXAMPLES,
+    SIZING_EXAMPLES,
     AccuracyAnswer,
     MotionAnswer,
     MotionRequest,
@@ -20,14 +23,15 @@ from ..indexer_schemas import (
 from ..indexers import IndexerService
 from ..responses import JSONBody, check_finite, table_response, wants_csv
 from ..routing import OrjsonRoute
-from .curves import CSV, ERRORS
+from .curves import CSV, CSV_FILE, ERRORS
 
 router = APIRouter(prefix="/v1/indexers", tags=["indexers"], route_class=OrjsonRoute)
 Service = Annotated[IndexerService, Depends(indexer_service)]
 
 
 @router.post("/motion", operation_id="getIndexerMotion", response_model=MotionAnswer, responses={**ERRORS, 200: CSV})
-def indexer_motion(body: MotionRequest, request: Request, service: Service) -> Response:
+def indexer_motion(body: Annotated[MotionRequest, Body(openapi_examples=MOTION_EXAMPLES)], request: Request,
+                   service: Service) -> Response:
     """Summary (times, exact peaks) and the output motion over one index (CSV: the table)."""
     summary, table = service.motion(body.indexer, body.samples)
     if wants_csv(request):
@@ -36,17 +40,40 @@ def indexer_motion(body: MotionRequest, request: Request, service: Service) -> R
     return JSONBody({"summary": summary, "table": table})
 
 
+@router.post("/motion.csv", operation_id="getIndexerMotionCsv", response_class=Response,
+             responses={**ERRORS, 200: CSV_FILE})
+def indexer_motion_csv(body: Annotated[MotionRequest, Body(openapi_examples=MOTION_EXAMPLES)],
+                       service: Service) -> Response:
+    """The motion table of ``getIndexerMotion`` as CSV."""
+    _summary, table = service.motion(body.indexer, body.samples)
+    return table_response(table, True, filename="motion.csv")
+
+
 @router.post("/position", operation_id="getIndexerPosition", response_model=PositionAnswer,
              responses={**ERRORS, 200: CSV})
-def indexer_position(body: PositionRequest, request: Request, service: Service) -> Response:
+def indexer_position(body: Annotated[PositionRequest, Body(openapi_examples=POSITION_EXAMPLES)], request: Request,
+                     service: Service) -> Response:
     """For each output angle: input angle, time, ω and α (exact, or the catalog's table method)."""
+    return _position(body, service, wants_csv(request))
+
+
+@router.post("/position.csv", operation_id="getIndexerPositionCsv", response_class=Response,
+             responses={**ERRORS, 200: CSV_FILE})
+def indexer_position_csv(body: Annotated[PositionRequest, Body(openapi_examples=POSITION_EXAMPLES)],
+                         service: Service) -> Response:
+    """The answer of ``getIndexerPosition`` as CSV."""
+    return _position(body, service, True)
+
+
+def _position(body: PositionRequest, service: IndexerService, csv: bool) -> Response:
     columns = service.position(body.indexer, body.output_angle_deg, body.method, body.table_step,
                                body.table_decimals)
-    return table_response(columns, wants_csv(request), filename="position.csv")
+    return table_response(columns, csv, filename="position.csv")
 
 
 @router.post("/sizing", operation_id="sizeIndexer", response_model=SizingAnswer, responses=ERRORS)
-def indexer_sizing(body: SizingRequest, service: Service) -> Response:
+def indexer_sizing(body: Annotated[SizingRequest, Body(openapi_examples=SIZING_EXAMPLES)],
+                   service: Service) -> Response:
     """Inertia, friction and work torque, output and input torque, input power."""
     result = service.sizing(body.indexer, body.load)
     check_finite({k: v for k, v in result.items() if isinstance(v, float)})

@@ -1,21 +1,34 @@
-"""/v1/profiles: plate-cam contours with checks, contour export, base-circle sizing."""
+"""/v1/profiles: plate-cam contours with checks, contour export, base-circle sizing.
+
+``computeProfile`` answers JSON, or a file on ``?format=`` (csv, dxf, xyz, contour-csv); each
+file also has an operation of its own (``/table.csv``, ``/contour.dxf``, ``/contour.xyz``,
+``/contour.csv``) whose only answer is that file, for generated clients, which read one media
+type per operation.
+"""
 
 from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from fastapi import APIRouter, Depends, Query, Request
+from fastapi import APIRouter, Body, Depends, Query, Request
 from starlette.responses import Response
 
 from camcore.export import FORMATS, ContourFormat
 
 from ..deps import profile_service
-from ..profile_schemas import BaseCircleAnswer, BaseCircleRequest, ProfileAnswer, ProfileRequest
+from ..profile_schemas import (
+    BASE_CIRCLE_EXAMPLES,
+    PROFILE_EXAMPLES,
+    BaseCircleAnswer,
+    BaseCircleRequest,
+    ProfileAnswer,
+    ProfileRequest,
+)
 from ..profiles import UNBOUNDED_COLUMNS, ProfileService
 from ..responses import JSONBody, check_finite, table_response, wants_csv
 from ..routing import OrjsonRoute
-from .curves import ERRORS
+from .curves import CSV_FILE, ERRORS
 
 router = APIRouter(prefix="/v1/profiles", tags=["profiles"], route_class=OrjsonRoute)
 Service = Annotated[ProfileService, Depends(profile_service)]
@@ -36,11 +49,12 @@ EXPORTS = {
 ProfileFormat = Literal[("json", "csv", *FORMATS)]  # type: ignore[valid-type]  # built from the registry
 FORMAT_HELP = " / ".join(FORMATS) + " download the contour:\n\n" + "\n".join(
     f"- `{fmt.name}` ({fmt.media_type.split(';')[0]}, {fmt.file_name}): {fmt.description}" for fmt in FORMATS.values())
+ProfileBody = Annotated[ProfileRequest, Body(openapi_examples=PROFILE_EXAMPLES)]
 
 
 @router.post("", operation_id="computeProfile", response_model=ProfileAnswer, responses={**ERRORS, 200: EXPORTS})
 def compute_profile(
-    body: ProfileRequest,
+    body: Annotated[ProfileRequest, Body(openapi_examples=PROFILE_EXAMPLES)],
     request: Request,
     service: Service,
     format: Annotated[ProfileFormat | None, Query(description=FORMAT_HELP)] = None,
@@ -60,8 +74,40 @@ def compute_profile(
     return JSONBody({**columns, "checks": service.checks(result)})
 
 
+@router.post("/table.csv", operation_id="computeProfileCsv", response_class=Response,
+             responses={**ERRORS, 200: CSV_FILE})
+def compute_profile_csv(body: ProfileBody, service: Service) -> Response:
+    """The columns of ``computeProfile`` as CSV (null radius = an empty cell: a straight stretch)."""
+    columns = service.columns(service.profile(body.profile, body.samples, body.cam_angle_deg))
+    check_finite({k: v for k, v in columns.items() if k not in UNBOUNDED_COLUMNS})
+    return table_response({k: np.asarray(v) for k, v in columns.items()}, True, filename="profile.csv",
+                          allow_null=UNBOUNDED_COLUMNS)
+
+
+def _contour_route(fmt: ContourFormat) -> None:
+    """One operation per contour format (``/contour.<ext>``), whose only answer is that file."""
+    extension = fmt.file_name.rsplit(".", 1)[-1]
+    camel = "".join(part.capitalize() for part in fmt.name.split("-"))
+
+    def export_contour(body: ProfileBody, service: Service) -> Response:
+        result = service.profile(body.profile, body.samples, body.cam_angle_deg)
+        return Response(service.export(result, fmt.name, body.profile.base_radius_mm), media_type=fmt.media_type,
+                        headers={"Content-Disposition": f'attachment; filename="{fmt.file_name}"'})
+
+    export_contour.__doc__ = f"The cam contour as {fmt.description} (``computeProfile`` with ``?format={fmt.name}``)."
+    router.add_api_route(f"/contour.{extension}", export_contour, methods=["POST"],
+                         operation_id=f"exportProfile{camel}", response_class=Response,
+                         responses={**ERRORS, 200: {"content": _content(fmt), "description": fmt.description}},
+                         summary=f"Export Profile {camel}")
+
+
+for _fmt in FORMATS.values():
+    _contour_route(_fmt)
+
+
 @router.post("/base-circle", operation_id="sizeBaseCircle", response_model=BaseCircleAnswer, responses=ERRORS)
-def size_base_circle(body: BaseCircleRequest, service: Service) -> Response:
+def size_base_circle(body: Annotated[BaseCircleRequest, Body(openapi_examples=BASE_CIRCLE_EXAMPLES)],
+                     service: Service) -> Response:
     """The smallest base radius meeting a pressure-angle limit and/or a curvature limit."""
     result = service.base_circle(body.profile, body.max_pressure_angle_deg, body.min_radius_of_curvature_mm)
     return JSONBody(result)

@@ -1,0 +1,125 @@
+"""Every answer's media type is declared in the OpenAPI document, with a schema.
+
+A generated client decides how to read an answer from the document: openapi-python-client
+reads the first media type it knows of a status (JSON before CSV, so the typed models stay);
+openapi-typescript types each media type. Each way to get a CSV, DXF, X Y Z, PNG or SVG answer
+is requested here, and its Content-Type must be one the operation declares for 200. Every
+file also has an operation whose only answer is that file (the ``….csv``, ``contour.dxf``
+twins): that is the one a generated client calls to download it.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import httpx
+import pytest
+
+from service.app import create_app
+from service.indexer_schemas import INDEXER_EXAMPLE
+from service.profile_schemas import KNIFE_EDGE_PROFILE_EXAMPLE
+
+pytestmark = pytest.mark.anyio
+
+DOC = create_app().openapi()
+MS = {"type": "named", "name": "MS"}
+TABLE = {"curve": MS, "samples": 11}
+INVERSE = {"curve": MS, "s": [0.1833]}
+MOTION = {"indexer": INDEXER_EXAMPLE, "samples": 11}
+POSITION = {"indexer": INDEXER_EXAMPLE, "output_angle_deg": [11]}
+PROFILE = {"profile": KNIFE_EDGE_PROFILE_EXAMPLE, "samples": 37}
+CSV_ACCEPT = {"Accept": "text/csv"}
+
+# (method, path template, url, body, headers, media type answered)
+CASES: list[tuple[str, str, str, dict[str, Any] | None, dict[str, str], str]] = [
+    ("GET", "/v1/curves/{name}/table", "/v1/curves/MS/table?samples=11", None, {}, "application/json"),
+    ("GET", "/v1/curves/{name}/table", "/v1/curves/MS/table?samples=11&format=csv", None, {}, "text/csv"),
+    ("GET", "/v1/curves/{name}/table.csv", "/v1/curves/MS/table.csv?samples=11", None, {}, "text/csv"),
+    ("POST", "/v1/curves/table", "/v1/curves/table", TABLE, {}, "application/json"),
+    ("POST", "/v1/curves/table", "/v1/curves/table", TABLE, CSV_ACCEPT, "text/csv"),
+    ("POST", "/v1/curves/table.csv", "/v1/curves/table.csv", TABLE, {}, "text/csv"),
+    ("GET", "/v1/curves/{name}/inverse", "/v1/curves/MS/inverse?s=0.1833&format=csv", None, {}, "text/csv"),
+    ("GET", "/v1/curves/{name}/inverse.csv", "/v1/curves/MS/inverse.csv?s=0.1833", None, {}, "text/csv"),
+    ("POST", "/v1/curves/inverse", "/v1/curves/inverse", INVERSE, CSV_ACCEPT, "text/csv"),
+    ("POST", "/v1/curves/inverse.csv", "/v1/curves/inverse.csv", INVERSE, {}, "text/csv"),
+    ("POST", "/v1/indexers/motion", "/v1/indexers/motion", MOTION, CSV_ACCEPT, "text/csv"),
+    ("POST", "/v1/indexers/motion.csv", "/v1/indexers/motion.csv", MOTION, {}, "text/csv"),
+    ("POST", "/v1/indexers/position", "/v1/indexers/position", POSITION, CSV_ACCEPT, "text/csv"),
+    ("POST", "/v1/indexers/position.csv", "/v1/indexers/position.csv", POSITION, {}, "text/csv"),
+    ("POST", "/v1/profiles", "/v1/profiles", PROFILE, {}, "application/json"),
+    ("POST", "/v1/profiles", "/v1/profiles?format=csv", PROFILE, {}, "text/csv"),
+    ("POST", "/v1/profiles", "/v1/profiles?format=contour-csv", PROFILE, {}, "text/csv"),
+    ("POST", "/v1/profiles", "/v1/profiles?format=dxf", PROFILE, {}, "application/dxf"),
+    ("POST", "/v1/profiles", "/v1/profiles?format=xyz", PROFILE, {}, "text/plain"),
+    ("POST", "/v1/profiles/table.csv", "/v1/profiles/table.csv", PROFILE, {}, "text/csv"),
+    ("POST", "/v1/profiles/contour.csv", "/v1/profiles/contour.csv", PROFILE, {}, "text/csv"),
+    ("POST", "/v1/profiles/contour.dxf", "/v1/profiles/contour.dxf", PROFILE, {}, "application/dxf"),
+    ("POST", "/v1/profiles/contour.xyz", "/v1/profiles/contour.xyz", PROFILE, {}, "text/plain"),
+    ("GET", "/v1/curves/{name}/plot", "/v1/curves/MS/plot?samples=101", None, {}, "image/svg+xml"),
+    ("GET", "/v1/curves/{name}/plot", "/v1/curves/MS/plot?samples=101&format=png", None, {}, "image/png"),
+    ("GET", "/v1/indexers/plot", "/v1/indexers/plot?stops=6&indexing_angle_deg=270&speed_rpm=60&samples=101&format=png",
+     None, {}, "image/png"),
+    ("GET", "/v1/profiles/plot", "/v1/profiles/plot?samples=101", None, {}, "image/svg+xml"),
+]
+if "/v1/curves/{name}/value" in DOC["paths"]:  # the spreadsheet cell (API contract: one bare number)
+    CASES.append(("GET", "/v1/curves/{name}/value", "/v1/curves/MS/value?t=0.3&quantity=s", None, {}, "text/plain"))
+
+
+def declared(method: str, path: str) -> dict[str, Any]:
+    return DOC["paths"][path][method.lower()]["responses"]["200"]["content"]
+
+
+@pytest.mark.parametrize(("method", "path", "url", "body", "headers", "media"), CASES,
+                         ids=[f"{c[0]} {c[2][:60]}" for c in CASES])
+async def test_answer_media_type_is_declared(client: httpx.AsyncClient, method: str, path: str, url: str,
+                                             body: dict[str, Any] | None, headers: dict[str, str],
+                                             media: str) -> None:
+    r = await client.request(method, url, json=body, headers=headers)
+    assert r.status_code == 200, r.text
+    answered = r.headers["content-type"].split(";")[0].strip()
+    assert answered == media
+    content = declared(method, path)
+    assert answered in content, f"{method} {path} answers {answered} but declares {list(content)}"
+    assert content[answered].get("schema"), f"{method} {path}: {answered} has no schema"
+
+
+def test_every_operation_with_a_non_json_answer_is_exercised() -> None:
+    exercised = {(m, p) for m, p, *_ in CASES}
+    non_json = {(method.upper(), path) for path, ops in DOC["paths"].items() for method, op in ops.items()
+                if set(op["responses"].get("200", {}).get("content", {})) - {"application/json"}}
+    assert non_json <= exercised, f"add a case above for {sorted(non_json - exercised)}"
+
+
+def test_json_answers_keep_their_models_and_come_first() -> None:
+    # JSON is typed by a model (generated clients get classes), and listed first where an
+    # operation also answers a file, so that a generator reading the first media type reads JSON
+    for path, ops in DOC["paths"].items():
+        for method, op in ops.items():
+            content = op["responses"]["200"]["content"]
+            if "application/json" in content:
+                assert "$ref" in content["application/json"]["schema"], (method, path)
+                assert next(iter(content)) == "application/json", (method, path, list(content))
+
+
+def test_file_twins_answer_only_their_file() -> None:
+    twins = {path: ops["post"] if "post" in ops else ops["get"] for path, ops in DOC["paths"].items()
+             if path.endswith((".csv", ".dxf", ".xyz"))}
+    assert len(twins) == 10, sorted(twins)
+    for path, op in twins.items():
+        content = op["responses"]["200"]["content"]
+        assert len(content) == 1, (path, list(content))
+        # binary for DXF (a generator hands back bytes), text for CSV and X Y Z
+        media, entry = next(iter(content.items()))
+        assert entry["schema"] == ({"type": "string", "format": "binary"} if media == "application/dxf"
+                                   else {"type": "string"}), (path, entry)
+
+
+def test_committed_document_keeps_json_first() -> None:
+    # the committed file sorts keys for a stable diff, but not the media types of a content map
+    import json
+
+    from scripts.export_openapi import TARGET
+
+    committed = json.loads(TARGET.read_text(encoding="utf-8"))
+    content = committed["paths"]["/v1/profiles"]["post"]["responses"]["200"]["content"]
+    assert next(iter(content)) == "application/json", list(content)

@@ -1,0 +1,103 @@
+"""Swagger UI's "Try it out" pre-fills every POST with a body that answers 200: a real headless Chromium.
+
+The page is Swagger UI itself (the bundle the service serves at /static/docs, the app's
+/openapi.json), with every operation expanded; a few lines of script press "Try it out" on each
+POST and copy the body editor's text into the page, which Chromium dumps. Each pre-filled body is
+then posted to the same live server (``python -m service`` on a loopback port). Chromium's
+network is limited to the loopback interface; the page is a local file, so it may read the
+service's document across origins (``--disable-web-security``, this throwaway profile only).
+
+Needs Debian's ``chromium`` (``apt-get install -y chromium``); without it the test FAILS.
+Set ``CAMCORE_CHROMIUM`` to use another binary.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import os
+import re
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+
+import httpx
+import pytest
+
+pytestmark = pytest.mark.e2e
+
+FLAGS = [
+    "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+    "--disable-dev-shm-usage", "--hide-scrollbars", "--mute-audio",
+    "--proxy-server=127.0.0.1:9", "--proxy-bypass-list=127.0.0.1",
+    "--host-resolver-rules=MAP * ~NOTFOUND , EXCLUDE 127.0.0.1",
+    "--disable-web-security", "--virtual-time-budget=60000",
+]
+
+PAGE = """<!doctype html>
+<html><head><meta charset="utf-8"></head><body>
+<div id="swagger-ui"></div><pre id="prefill">pending</pre>
+<script src="BASE/static/docs/swagger-ui-bundle.js"></script>
+<script>
+SwaggerUIBundle({url: "BASE/openapi.json", dom_id: "#swagger-ui", docExpansion: "list", deepLinking: false,
+                 defaultModelsExpandDepth: -1});
+const opened = new Set(), pressed = new Set();
+function step() {
+  const ops = [...document.querySelectorAll(".opblock-post")];
+  if (!ops.length) { setTimeout(step, 100); return; }
+  for (const op of ops) {  // open each POST once, press "Try it out" once, wait for its body editor
+    const path = op.querySelector(".opblock-summary-path").getAttribute("data-path");
+    if (!opened.has(path)) { op.querySelector(".opblock-summary-control").click(); opened.add(path); continue; }
+    const button = op.querySelector(".try-out__btn");
+    if (button && !pressed.has(path)) { button.click(); pressed.add(path); }
+  }
+  const editors = ops.map(op => op.querySelector("textarea.body-param__text"));
+  if (editors.some(e => !e)) { setTimeout(step, 100); return; }
+  const bodies = {};
+  ops.forEach((op, i) => {
+    bodies[op.querySelector(".opblock-summary-path").getAttribute("data-path")] = editors[i].value;
+  });
+  document.getElementById("prefill").textContent = JSON.stringify(bodies);
+}
+setTimeout(step, 100);
+</script></body></html>
+"""
+
+
+def chromium() -> str:
+    path = os.environ.get("CAMCORE_CHROMIUM") or shutil.which("chromium") or shutil.which("chromium-browser")
+    if not path:
+        pytest.fail("Chromium is not installed: this test needs a headless browser. "
+                    "Install it with: apt-get update && apt-get install -y chromium "
+                    "(or set CAMCORE_CHROMIUM to a Chrome/Chromium binary).", pytrace=False)
+    return path
+
+
+def swagger_prefill(base_url: str, folder: Path) -> dict[str, str | None]:
+    page = folder / "swagger.html"
+    page.write_text(PAGE.replace("BASE", base_url), encoding="utf-8")
+    with tempfile.TemporaryDirectory(prefix="camcore-chromium-") as profile:
+        proc = subprocess.run([chromium(), *FLAGS, f"--user-data-dir={profile}", "--dump-dom", page.as_uri()],
+                              capture_output=True, timeout=180, check=False)
+    assert proc.returncode == 0, proc.stderr.decode(errors="replace")[-2000:]
+    found = re.search(r'<pre id="prefill">(.*?)</pre>', proc.stdout.decode(), re.DOTALL)
+    assert found and found.group(1) != "pending", "Swagger UI did not render the operations"
+    return json.loads(html.unescape(found.group(1)))
+
+
+def test_swagger_ui_prefills_every_post_with_a_body_that_answers_200(base_url: str, tmp_path: Path) -> None:
+    document = httpx.get(f"{base_url}/openapi.json", timeout=10).json()
+    posts = sorted(path for path, ops in document["paths"].items() if "post" in ops)
+    bodies = swagger_prefill(base_url, tmp_path)
+    assert sorted(bodies) == posts
+    for path in posts:
+        text = bodies[path]
+        assert text, f"Swagger UI left the body of POST {path} empty"
+        body = json.loads(text)
+        first = next(iter(document["paths"][path]["post"]["requestBody"]["content"]["application/json"]
+                          ["examples"].values()))["value"]
+        assert body == first, f"POST {path}: Swagger UI pre-filled {body}, not the first example"
+        r = httpx.post(f"{base_url}{path}", json=body, timeout=60)
+        assert r.status_code == 200, f"POST {path} with Swagger UI's body: {r.status_code} {r.text[:300]}"
