@@ -1,8 +1,9 @@
 """The image (Dockerfile). There is no Docker engine here, so: the Dockerfile passes hadolint,
 installs the runtime pins alone, and its CMD — run here with the image's ENV, from a folder
-holding only what the image copies — serves /health on the port and with the workers that
-CAMCORE_PORT and CAMCORE_WORKERS ask for; its HEALTHCHECK command passes against that server
-and fails once it is gone."""
+holding only what the image copies, with every development-only package made unimportable —
+serves /health, a PNG plot and a DXF on the port and with the workers that CAMCORE_PORT and
+CAMCORE_WORKERS ask for; its HEALTHCHECK command passes against that server and fails once it
+is gone."""
 
 from __future__ import annotations
 
@@ -14,12 +15,13 @@ import subprocess
 import sys
 import time
 import tomllib
+from importlib import metadata
 from pathlib import Path
 
 import dockerfile_instructions as df
 import httpx
 import pytest
-from requirements_files import pins, requirement_name
+from requirements_files import normalise, pins, requirement_name
 
 ROOT = df.ROOT
 MAKEFILE = (ROOT / "Makefile").read_text(encoding="utf-8")
@@ -91,6 +93,32 @@ def test_dockerfile_passes_hadolint() -> None:
     assert proc.returncode == 0, proc.stdout + proc.stderr
 
 
+BLOCKER = """\
+import importlib.abc, sys
+
+BLOCKED = {blocked!r}
+
+
+class DevelopmentOnly(importlib.abc.MetaPathFinder):
+    # what requirements-dev.lock adds is not in the image: importing it must fail here too
+    def find_spec(self, name, path=None, target=None):
+        if name.partition(".")[0] in BLOCKED:
+            raise ModuleNotFoundError(f"No module named {{name!r}} in the image (requirements-dev.lock only)", name=name)
+        return None
+
+
+sys.meta_path.insert(0, DevelopmentOnly())
+"""
+
+
+def development_only_modules() -> set[str]:
+    """Top-level modules that only distributions of requirements-dev.lock provide."""
+    # setuptools stays: the image's venv has its own (python -m venv installs it on 3.11)
+    dev_only = set(pins(ROOT / "requirements-dev.lock", follow=False)) - {"setuptools"}
+    return {module for module, dists in metadata.packages_distributions().items()
+            if {normalise(d) for d in dists} <= dev_only}
+
+
 def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -105,9 +133,15 @@ def test_cmd_serves_health_with_port_and_workers_from_the_environment(tmp_path: 
     for src, dst in copies:
         if src != "requirements.lock":
             shutil.copytree(ROOT / src, app_dir / dst, ignore=shutil.ignore_patterns("__pycache__"))
+    blocked = development_only_modules()
+    assert {"pytest", "hypothesis", "schemathesis", "httpx", "mpmath", "yaml"} <= blocked
+    site = tmp_path / "site"
+    site.mkdir()
+    (site / "sitecustomize.py").write_text(BLOCKER.format(blocked=sorted(blocked)), encoding="utf-8")
     port = free_port()
     env = {k: v for k, v in os.environ.items() if not k.startswith("CAMCORE_")}
     env.update(df.env())
+    env["PYTHONPATH"] = str(site)  # sitecustomize runs in the server and in each worker it spawns
     env.update(CAMCORE_HOST="127.0.0.1",  # loopback only in tests (the image listens on 0.0.0.0)
                CAMCORE_PORT=str(port), CAMCORE_WORKERS="2", MPLCONFIGDIR=str(tmp_path / "matplotlib"))
     command = [sys.executable, *df.cmd()[1:]]  # the venv's python in place of /app/.venv/bin/python
@@ -117,6 +151,9 @@ def test_cmd_serves_health_with_port_and_workers_from_the_environment(tmp_path: 
     where = subprocess.run([sys.executable, "-c", "import service, camcore; print(service.__file__, camcore.__file__)"],
                            cwd=app_dir, env=env, capture_output=True, text=True, check=True).stdout.split()
     assert all(Path(p).is_relative_to(app_dir) for p in where), f"imports the copy, not the repository: {where}"
+    # the blocker works: a development-only import fails in this environment
+    assert subprocess.run([sys.executable, "-c", "import pytest"], cwd=app_dir, env=env, capture_output=True,
+                          check=False).returncode != 0
 
     log = tmp_path / "server.log"
     with log.open("wb") as out:
@@ -135,6 +172,13 @@ def test_cmd_serves_health_with_port_and_workers_from_the_environment(tmp_path: 
                 assert time.monotonic() < deadline, log.read_text(errors="replace")
                 time.sleep(0.2)
             assert r.status_code == 200 and r.json()["status"] == "ok"
+            # matplotlib and ezdxf at work with the runtime packages alone
+            plot = httpx.get(f"http://127.0.0.1:{port}/v1/curves/MS/plot?format=png", timeout=60)
+            assert plot.status_code == 200 and plot.content.startswith(b"\x89PNG"), plot.text[:500]
+            cam = {"profile": {"follower": {"type": "knife-edge"}, "base_radius_mm": 15, "segments": [
+                {"type": "rise", "angle_deg": 180, "lift_mm": 20}, {"type": "return", "angle_deg": 180, "lift_mm": 20}]}}
+            dxf = httpx.post(f"http://127.0.0.1:{port}/v1/profiles?format=dxf", json=cam, timeout=60)
+            assert dxf.status_code == 200 and b"SECTION" in dxf.content, dxf.text[:500]
             text = log.read_text(errors="replace")
             assert f"Uvicorn running on http://127.0.0.1:{port}" in text and "Started parent process" in text
             assert subprocess.run(check, env=env, timeout=30, check=False).returncode == 0
