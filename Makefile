@@ -19,7 +19,7 @@ serve: $(VENV)/.installed
 
 # the programs the tests run (Chromium, wrk, LibreOffice, node): installed only when missing
 test-tools:
-	scripts/install_test_tools.sh
+	VENV=$(VENV) scripts/install_test_tools.sh
 
 test: test-tools $(VENV)/.installed
 	$(PY) -m pytest

@@ -20,7 +20,8 @@ have() { command -v "$1" >/dev/null 2>&1; }
 
 missing_packages() {
     local pkgs=()
-    python3 -c 'import ensurepip, venv' >/dev/null 2>&1 || pkgs+=(python3-venv)
+    # (not asked once make has built its venv: the check costs a Python start)
+    [ -e "${VENV:-.venv}/.installed" ] || python3 -c 'import ensurepip, venv' >/dev/null 2>&1 || pkgs+=(python3-venv)
     have chromium || have chromium-browser || pkgs+=(chromium)
     have wrk || pkgs+=(wrk)
     # LibreOffice's components are libraries beside soffice: sd is Draw, sc is Calc
