@@ -1,20 +1,27 @@
 # Two commands on a fresh machine: `make serve` runs the service, `make test` runs the tests.
-# Both first build .venv from the pinned requirements.lock (the same install step the
-# Dockerfile runs); code is used in place from this folder.
+# Both first build .venv from the pinned requirements-dev.lock (runtime pins from
+# requirements.lock plus the development tools) and install this project into it, editable
+# and without dependencies, so `import camcore` works from any folder with .venv's python.
+# The container installs requirements.lock alone (Dockerfile).
 VENV ?= .venv
 PY := $(VENV)/bin/python
 
-.PHONY: serve test bench openapi
+.PHONY: serve test test-tools bench openapi
 
-$(VENV)/.installed: requirements.lock
+$(VENV)/.installed: requirements.lock requirements-dev.lock pyproject.toml
 	python3 -m venv $(VENV)
-	$(VENV)/bin/pip install -r requirements.lock
+	$(VENV)/bin/pip install -r requirements-dev.lock
+	$(VENV)/bin/pip install --no-deps --no-build-isolation -e .
 	touch $@
 
 serve: $(VENV)/.installed
 	$(PY) -m service
 
-test: $(VENV)/.installed
+# the programs the tests run (Chromium, wrk, LibreOffice, node): installed only when missing
+test-tools:
+	VENV=$(VENV) scripts/install_test_tools.sh
+
+test: test-tools $(VENV)/.installed
 	$(PY) -m pytest
 
 bench: $(VENV)/.installed

@@ -5,7 +5,7 @@ proxy that does not exist for every host except 127.0.0.1 and a resolver that re
 so a page that needs a CDN (FastAPI's default /docs does) stays empty and the test fails.
 
 Needs Debian's ``chromium`` (``apt-get install -y chromium``); without it the test FAILS —
-CI installs it. Set ``CAMCORE_CHROMIUM`` to use another binary.
+``make test`` installs it (scripts/install_test_tools.sh). Set ``CAMCORE_CHROMIUM`` to use another binary.
 """
 
 from __future__ import annotations
