@@ -1,6 +1,6 @@
 """The camcore HTTP service (FastAPI), a thin layer over the ``camcore`` library."""
 
-from .app import create_app
-from .settings import Settings
+from service.app import create_app
+from service.settings import Settings
 
 __all__ = ["Settings", "create_app"]

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import uvicorn
 
-from .protocol import NoDelayHttpToolsProtocol
-from .settings import Settings
+from service.protocol import NoDelayHttpToolsProtocol
+from service.settings import Settings
 
 
 def main() -> None:

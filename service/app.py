@@ -5,16 +5,19 @@ from __future__ import annotations
 from fastapi import FastAPI
 
 import camcore
-
-from .core import CurveService
-from .errors import install_error_handlers
-from .middleware import BodySizeLimit
-from .indexers import IndexerService
-from .profiles import ProfileService
-from .offline_docs import install_offline_docs
-from .routes import curves, health, indexers, plots, profiles
-from .security import install_security
-from .settings import Settings
+from service import health
+from service.curves import routes as curves
+from service.curves.service import CurveService
+from service.errors import install_error_handlers
+from service.indexers import routes as indexers
+from service.indexers.service import IndexerService
+from service.middleware import BodySizeLimit
+from service.offline_docs import install_offline_docs
+from service.plots import routes as plots
+from service.profiles import routes as profiles
+from service.profiles.service import ProfileService
+from service.security import install_security
+from service.settings import Settings
 
 DESCRIPTION = """Cam motion curves (Makino's universal cam curve, the INDEXMAN catalog curves,
 polynomial laws, Bezier and measured-point curves), characteristic values, exact inverse

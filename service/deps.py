@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from fastapi import Request
 
-from .core import CurveService
-from .indexers import IndexerService
-from .profiles import ProfileService
+from service.curves.service import CurveService
+from service.indexers.service import IndexerService
+from service.profiles.service import ProfileService
 
 
 async def curve_service(request: Request) -> CurveService:

@@ -21,6 +21,7 @@ from typing import Any
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
+from pydantic import BaseModel
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from camcore.errors import (
@@ -32,8 +33,7 @@ from camcore.errors import (
     StrokeRangeError,
     UnknownCurveError,
 )
-
-from .responses import JSONBody
+from service.responses import JSONBody
 
 logger = logging.getLogger("camcore.service")
 
@@ -177,3 +177,13 @@ def install_error_handlers(app: FastAPI) -> None:
     app.add_exception_handler(RequestValidationError, validation_error_handler)
     app.add_exception_handler(StarletteHTTPException, http_error_handler)
     app.add_exception_handler(Exception, unexpected_error_handler)
+
+
+class ErrorItem(BaseModel):
+    loc: list[str | int]
+    msg: str
+
+
+class ErrorAnswer(BaseModel):
+    detail: str
+    errors: list[ErrorItem] = []

@@ -1,6 +1,6 @@
 """``service.main:app`` — the app with settings from the environment."""
 
-from .app import create_app
-from .settings import Settings
+from service.app import create_app
+from service.settings import Settings
 
 app = create_app(Settings())

@@ -28,7 +28,7 @@ from fastapi import FastAPI
 from starlette.middleware.cors import CORSMiddleware
 from starlette.types import ASGIApp, Receive, Scope, Send
 
-from .settings import Settings
+from service.settings import Settings
 
 API_KEY_HEADER = "X-API-Key"
 UNAUTHORIZED_DETAIL = "missing or wrong API key (send it in the X-API-Key header)"

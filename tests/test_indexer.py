@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from camcore import InvalidParameterError, StrokeRangeError, named_curve
-from camcore.indexer import G, Indexer, Load, LoadPart, accuracy_mm, size
 from camcore.curves.reverse import ReturnCurve
+from camcore.indexer import G, Indexer, Load, LoadPart, accuracy_mm, size
 
 MS = named_curve("MS")
 

@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 import camcore
-from camcore.errors import DegenerateCurveError, LimitExceededError, NonMonotoneError
 from camcore.curves.points import PointsCurve, c2_spline_slopes, hermite_piece_is_monotone
+from camcore.errors import DegenerateCurveError, LimitExceededError, NonMonotoneError
 
 EPS = np.finfo(float).eps
 

@@ -86,8 +86,8 @@ SPECS = {
 
 
 def direct_curve(spec: dict) -> camcore.Curve:
-    from service.core import CurveService
-    from service.schemas import TableRequest
+    from service.curves.service import CurveService
+    from service.curves.specs import TableRequest
 
     return CurveService(Settings()).curve(TableRequest.model_validate({"curve": spec}).curve)
 

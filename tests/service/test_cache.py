@@ -45,7 +45,7 @@ def test_peek_counts_nothing_and_keeps_the_order() -> None:
 
 
 def test_spec_cache_key_is_made_once_and_follows_a_changed_copy() -> None:
-    from service.schemas import NamedCurveSpec
+    from service.curves.specs import NamedCurveSpec
 
     spec = NamedCurveSpec(name="MS")
     key = spec.cache_key()

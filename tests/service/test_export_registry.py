@@ -70,7 +70,7 @@ def test_the_openapi_document_offers_every_registered_format() -> None:
 def extra_format() -> Iterator[export.ContourFormat]:
     """A format added to the registry, the route module re-imported to read it; both
     restored afterwards."""
-    import service.routes.profiles as route_module
+    import service.profiles.routes as route_module
 
     def write(c: export.Contour) -> bytes:
         return b"".join(f"{x!r};{y!r}\n".encode() for x, y in zip(c.x_mm.tolist(), c.y_mm.tolist()))
@@ -98,6 +98,6 @@ async def test_a_new_format_is_one_registry_entry(extra_format: export.ContourFo
 
 
 def test_without_the_extra_entry_the_format_is_refused_again() -> None:
-    import service.routes.profiles as route_module
+    import service.profiles.routes as route_module
 
     assert "semicolon" not in export.FORMATS and "semicolon" not in route_module.ProfileFormat.__args__

@@ -16,8 +16,8 @@ import httpx
 import pytest
 
 from service.app import create_app
-from service.indexer_schemas import INDEXER_EXAMPLE
-from service.profile_schemas import KNIFE_EDGE_PROFILE_EXAMPLE
+from service.indexers.specs import INDEXER_EXAMPLE
+from service.profiles.specs import KNIFE_EDGE_PROFILE_EXAMPLE
 
 pytestmark = pytest.mark.anyio
 

@@ -10,8 +10,8 @@ import httpx
 import pytest
 
 from service.app import create_app
-from service.core import QUICK_TABLE_ROWS
-from service.routes import curves
+from service.curves import routes as curves
+from service.curves.service import QUICK_TABLE_ROWS
 from service.settings import Settings
 
 pytestmark = pytest.mark.anyio

@@ -18,7 +18,9 @@ import httpx
 import pytest
 from pydantic import BaseModel
 
-from service import indexer_schemas, profile_schemas, schemas
+from service.curves import specs as schemas
+from service.indexers import specs as indexer_schemas
+from service.profiles import specs as profile_schemas
 from service.app import create_app
 
 pytestmark = pytest.mark.anyio

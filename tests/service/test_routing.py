@@ -8,8 +8,12 @@ import json
 
 import pytest
 
+from service import health
 from service.app import create_app
-from service.routes import curves, health, indexers, plots, profiles
+from service.curves import routes as curves
+from service.indexers import routes as indexers
+from service.plots import routes as plots
+from service.profiles import routes as profiles
 from service.routing import OrjsonRequest, OrjsonRoute
 
 

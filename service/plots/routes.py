@@ -7,7 +7,8 @@ from typing import Annotated
 from fastapi import APIRouter, Depends, Query
 from starlette.responses import Response
 
-from ..plots import (
+from service.curves.routes import ERRORS, CurveName
+from service.plots.charts import (
     IMAGE_RESPONSE,
     MEDIA_TYPES,
     CurvePlotQuery,
@@ -16,8 +17,7 @@ from ..plots import (
     ProfilePlotQuery,
     plot_service,
 )
-from ..routing import OrjsonRoute
-from .curves import ERRORS, CurveName
+from service.routing import OrjsonRoute
 
 router = APIRouter(route_class=OrjsonRoute)
 Service = Annotated[PlotService, Depends(plot_service)]

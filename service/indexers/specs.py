@@ -7,7 +7,8 @@ from typing import Annotated, Literal
 from fastapi.openapi.models import Example
 from pydantic import BaseModel, Field, model_validator
 
-from .schemas import BIG, MS_SPEC, CurveSpec, NamedCurveSpec, Spec, examples
+from service.curves.specs import MS_SPEC, CurveSpec, NamedCurveSpec
+from service.specs import BIG, Spec, examples
 
 #: physical lower bounds: a subnormal speed or time would make th² underflow to zero
 Positive = Annotated[float, Field(allow_inf_nan=False, ge=1e-6, le=BIG)]

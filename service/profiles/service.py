@@ -9,10 +9,9 @@ import numpy as np
 from camcore import export
 from camcore import profile as core
 from camcore.results import as_dict
-
-from .core import CurveService
-from .errors import within
-from .profile_schemas import ProfileSpec
+from service.curves.service import CurveService
+from service.errors import within
+from service.profiles.specs import ProfileSpec
 
 #: columns where an infinite value is meaningful (a straight stretch of surface) and is
 #: answered as null (JSON has no infinity)

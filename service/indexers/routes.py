@@ -7,8 +7,10 @@ from typing import Annotated
 from fastapi import APIRouter, Body, Depends, Query, Request
 from starlette.responses import Response
 
-from ..deps import indexer_service
-from ..indexer_schemas import (
+from service.curves.routes import CSV, CSV_FILE, ERRORS
+from service.deps import indexer_service
+from service.indexers.service import IndexerService
+from service.indexers.specs import (
     MOTION_EXAMPLES,
     POSITION_EXAMPLES,
     SIZING_EXAMPLES,
@@ -20,10 +22,8 @@ from ..indexer_schemas import (
     SizingAnswer,
     SizingRequest,
 )
-from ..indexers import IndexerService
-from ..responses import JSONBody, check_finite, table_response, wants_csv
-from ..routing import OrjsonRoute
-from .curves import CSV, CSV_FILE, ERRORS
+from service.responses import JSONBody, check_finite, table_response, wants_csv
+from service.routing import OrjsonRoute
 
 router = APIRouter(prefix="/v1/indexers", tags=["indexers"], route_class=OrjsonRoute)
 Service = Annotated[IndexerService, Depends(indexer_service)]

@@ -23,14 +23,13 @@ from fastapi.exceptions import RequestValidationError
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 import camcore
-
-from .core import CurveService
-from .errors import relocate, within
-from .indexer_schemas import IndexerSpec
-from .indexers import IndexerService
-from .profile_schemas import FollowerSpec, ProfileSpec, SegmentSpec
-from .profiles import ProfileService
-from .schemas import NamedCurveSpec
+from service.curves.service import CurveService
+from service.curves.specs import NamedCurveSpec
+from service.errors import relocate, within
+from service.indexers.service import IndexerService
+from service.indexers.specs import IndexerSpec
+from service.profiles.service import ProfileService
+from service.profiles.specs import FollowerSpec, ProfileSpec, SegmentSpec
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes

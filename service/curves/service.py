@@ -14,11 +14,8 @@ import camcore
 from camcore.curves import Curve
 from camcore.errors import LimitExceededError, NonMonotoneError
 from camcore.results import as_dict
-
-from .cache import LRUCache
-from .errors import within
-from .responses import encode_table, encode_value
-from .schemas import (
+from service.cache import LRUCache
+from service.curves.specs import (
     BezierCurveSpec,
     CurveSpec,
     MakinoCurveSpec,
@@ -27,7 +24,9 @@ from .schemas import (
     PolynomialCurveSpec,
     UniversalCurveSpec,
 )
-from .settings import Settings
+from service.errors import within
+from service.responses import encode_table, encode_value
+from service.settings import Settings
 
 #: rows of a table worth a thread-pool hop: below this, on a curve already built, the work
 #: (0.07 ms for 101 rows of MS, ~1 ms for 1001 rows of a degree-20 Bezier) costs less than

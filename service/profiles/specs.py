@@ -7,7 +7,8 @@ from typing import Annotated, Literal
 from fastapi.openapi.models import Example
 from pydantic import BaseModel, Field, model_validator
 
-from .schemas import BIG, MS_SPEC, BezierCurveSpec, CurveSpec, DefaultsInDescriptions, PointsCurveSpec, Spec, examples
+from service.curves.specs import MS_SPEC, BezierCurveSpec, CurveSpec, PointsCurveSpec
+from service.specs import BIG, DefaultsInDescriptions, Spec, examples
 
 Length = Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]
 PositiveLength = Annotated[float, Field(allow_inf_nan=False, gt=0, le=BIG)]
@@ -92,10 +93,10 @@ class ProfileSpec(Spec):
                     raise ValueError(f"segments[{i}]: an oscillating follower's lift is swing_deg, not lift_mm")
                 if not oscillating and seg.swing_deg is not None:
                     raise ValueError(f"segments[{i}]: a translating follower's lift is lift_mm, not swing_deg")
-        if self.follower.motion == "translating" and self.follower.type != "flat-faced":
-            if abs(self.follower.offset_mm) >= self.base_radius_mm + self.follower.roller_radius_mm:
-                raise ValueError("the offset must be smaller than the base radius (plus roller radius): "
-                                 "the follower line would miss the cam")
+        if (self.follower.motion == "translating" and self.follower.type != "flat-faced"
+                and abs(self.follower.offset_mm) >= self.base_radius_mm + self.follower.roller_radius_mm):
+            raise ValueError("the offset must be smaller than the base radius (plus roller radius): "
+                             "the follower line would miss the cam")
         return self
 
 
@@ -124,9 +125,9 @@ class BaseCircleRequest(Spec):
 
     @model_validator(mode="after")
     def _check(self) -> BaseCircleRequest:
-        if self.max_pressure_angle_deg is None and self.min_radius_of_curvature_mm is None:
-            if self.profile.follower.type != "flat-faced":
-                raise ValueError("give max_pressure_angle_deg and/or min_radius_of_curvature_mm")
+        if (self.max_pressure_angle_deg is None and self.min_radius_of_curvature_mm is None
+                and self.profile.follower.type != "flat-faced"):
+            raise ValueError("give max_pressure_angle_deg and/or min_radius_of_curvature_mm")
         return self
 
 

@@ -15,9 +15,10 @@ from fastapi import APIRouter, Body, Depends, Query, Request
 from starlette.responses import Response
 
 from camcore.export import FORMATS, ContourFormat
-
-from ..deps import profile_service
-from ..profile_schemas import (
+from service.curves.routes import CSV_FILE, ERRORS
+from service.deps import profile_service
+from service.profiles.service import UNBOUNDED_COLUMNS, ProfileService
+from service.profiles.specs import (
     BASE_CIRCLE_EXAMPLES,
     PROFILE_EXAMPLES,
     BaseCircleAnswer,
@@ -25,10 +26,8 @@ from ..profile_schemas import (
     ProfileAnswer,
     ProfileRequest,
 )
-from ..profiles import UNBOUNDED_COLUMNS, ProfileService
-from ..responses import JSONBody, check_finite, table_response, wants_csv
-from ..routing import OrjsonRoute
-from .curves import CSV_FILE, ERRORS
+from service.responses import JSONBody, check_finite, table_response, wants_csv
+from service.routing import OrjsonRoute
 
 router = APIRouter(prefix="/v1/profiles", tags=["profiles"], route_class=OrjsonRoute)
 Service = Annotated[ProfileService, Depends(profile_service)]

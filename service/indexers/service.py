@@ -9,10 +9,9 @@ import numpy as np
 from camcore import indexer as core
 from camcore.errors import NonMonotoneError
 from camcore.results import as_dict
-
-from .core import CurveService
-from .errors import within
-from .indexer_schemas import IndexerSpec, LoadSpec
+from service.curves.service import CurveService
+from service.errors import within
+from service.indexers.specs import IndexerSpec, LoadSpec
 
 
 class IndexerService:

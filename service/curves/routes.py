@@ -16,13 +16,8 @@ from starlette.concurrency import run_in_threadpool
 from starlette.responses import PlainTextResponse, Response
 
 import camcore
-
-from ..core import CurveService
-from ..deps import curve_service
-from ..errors import relocate, within
-from ..responses import JSONBody, encoded_response, wants_csv
-from ..routing import OrjsonRoute
-from ..schemas import (
+from service.curves.service import CurveService
+from service.curves.specs import (
     CHARACTERISTICS_EXAMPLES,
     INVERSE_EXAMPLES,
     TABLE_EXAMPLES,
@@ -32,13 +27,16 @@ from ..schemas import (
     CharacteristicsRequest,
     CurveSpec,
     CurveTable,
-    ErrorAnswer,
     InverseRequest,
     InverseTable,
     NamedCurveSpec,
-    QueryNumbers,
     TableRequest,
 )
+from service.deps import curve_service
+from service.errors import ErrorAnswer, relocate, within
+from service.responses import JSONBody, encoded_response, wants_csv
+from service.routing import OrjsonRoute
+from service.specs import QueryNumbers
 
 router = APIRouter(prefix="/v1/curves", tags=["curves"], route_class=OrjsonRoute)
 

@@ -2,18 +2,25 @@
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Literal
 
 from fastapi import APIRouter, Depends
+from pydantic import BaseModel
 from starlette.responses import Response
 
 import camcore
+from service.curves.service import CurveService
 
-from ..core import CurveService
-from ..deps import curve_service
-from ..responses import JSONBody
-from ..routing import OrjsonRoute
-from ..schemas import HealthAnswer
+from .deps import curve_service
+from .responses import JSONBody
+from .routing import OrjsonRoute
+
+
+class HealthAnswer(BaseModel):
+    status: Literal["ok"]
+    version: str
+    caches: dict[str, dict[str, int]]
+
 
 router = APIRouter(tags=["service"], route_class=OrjsonRoute)
 

@@ -1,0 +1,1 @@
+"""The curves domain of the service: specs, the bridge to camcore, routes."""

@@ -1,0 +1,1 @@
+"""The indexers domain of the service: specs, the bridge to camcore, routes."""

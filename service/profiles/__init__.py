@@ -1,0 +1,1 @@
+"""The profiles domain of the service: specs, the bridge to camcore, routes."""

@@ -1,0 +1,102 @@
+"""What every request spec shares: the base class, bounded finite numbers, examples.
+
+Every number is bounded and finite; cross-field rules are checked in validators that
+say, in a sentence, what is wrong (calling camcore's own checks where camcore has the
+rule). Sizes that depend on the configured limits (table samples, inverse list lengths,
+Bezier degree, point counts) are checked by the service layer, which answers 413
+naming the limit.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping
+from typing import Annotated, Any, Literal, Self
+
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, GetJsonSchemaHandler, PrivateAttr
+from pydantic.json_schema import JsonSchemaValue
+from pydantic_core import CoreSchema
+
+#: magnitude bound for dimensionless inputs: far beyond any cam, small enough that
+#: squares and products of a few of them stay finite in float64
+BIG = 1e6
+
+Finite = Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]
+Direction = Literal["rise", "return"]
+
+
+def _split_commas(values: object) -> object:
+    """Query values, each possibly a comma-separated list: ?s=0.1&s=0.2,0.3 → [0.1, 0.2, 0.3]."""
+    if isinstance(values, str):
+        values = [values]
+    if not isinstance(values, list):
+        return values
+    return [part.strip() for raw in values for part in str(raw).split(",") if part.strip()]
+
+
+def _number(value: object) -> object:
+    if isinstance(value, str):
+        try:
+            return float(value)
+        except ValueError:
+            raise ValueError(f"'{value[:40]}' is not a number") from None
+    return value
+
+
+#: a list of finite numbers in a query string: repeat the parameter or separate by commas
+#: (a spreadsheet cell builds ?s=0.1,0.2 more easily than ?s=0.1&s=0.2); typed as numbers in
+#: the OpenAPI document, so generated clients send numbers
+QueryNumbers = Annotated[list[Annotated[Finite, BeforeValidator(_number)]], BeforeValidator(_split_commas)]
+
+
+class DefaultsInDescriptions(BaseModel):
+    """In the OpenAPI document a field's default is stated in its description, not as ``default``.
+
+    openapi-typescript (v7, default options) types a property that has a ``default`` as always
+    present. For a request body that makes every defaulted field required in TypeScript (the
+    README's own bodies would not compile); for an answer field that is left out when it does
+    not apply, it promises a value that is not there. Such a field is optional: not listing it
+    in ``required`` says so to every generator, and the description keeps the value for people.
+    Single-value fields (the ``type`` tag of a curve spec) keep theirs: a tag is not a choice.
+    """
+
+    @classmethod
+    def __get_pydantic_json_schema__(cls, core_schema: CoreSchema, handler: GetJsonSchemaHandler) -> JsonSchemaValue:
+        schema = handler(core_schema)
+        for prop in handler.resolve_ref_schema(schema).get("properties", {}).values():
+            if "default" not in prop or "const" in prop:
+                continue
+            default = prop.pop("default")
+            if default is not None:  # None: "not given", already said by the null type
+                text = default if isinstance(default, str) else json.dumps(default)
+                description = prop.get("description", "").rstrip(".")
+                prop["description"] = f"{description}. Default: {text}." if description else f"Default: {text}."
+        return schema
+
+
+class Spec(DefaultsInDescriptions):
+    """A request model: unknown fields are refused, defaults are described (see the base class)."""
+
+    model_config = ConfigDict(extra="forbid")
+    _cache_key: str | None = PrivateAttr(None)
+
+    def cache_key(self) -> str:
+        """The spec's JSON with every field, defaults included: the key of the service's
+        caches. Made once per spec (specs are not changed after validation): a request asks
+        for it several times, and a 10 000-point spec takes ~1.5 ms to dump."""
+        if self._cache_key is None:
+            self._cache_key = self.model_dump_json()
+        return self._cache_key
+
+    def model_copy(self, *, update: Mapping[str, Any] | None = None, deep: bool = False) -> Self:
+        copy = super().model_copy(update=update, deep=deep)
+        if update:
+            copy._cache_key = None  # a changed copy is another spec
+        return copy
+
+
+def examples(*values: dict[str, Any]) -> ConfigDict:
+    """A model's complete, valid examples, for the OpenAPI document: tools that build a body
+    from the schema (Swagger UI's "Try it out" when an operation has no example of its own)
+    take the first, instead of combining field examples into a contradiction."""
+    return ConfigDict(json_schema_extra={"examples": list(values)})
