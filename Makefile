@@ -6,7 +6,7 @@
 VENV ?= .venv
 PY := $(VENV)/bin/python
 
-.PHONY: serve test test-tools bench openapi
+.PHONY: serve test test-tools lint bench openapi
 
 $(VENV)/.installed: requirements.lock requirements-dev.lock pyproject.toml
 	python3 -m venv $(VENV)
@@ -21,7 +21,12 @@ serve: $(VENV)/.installed
 test-tools:
 	VENV=$(VENV) scripts/install_test_tools.sh
 
-test: test-tools $(VENV)/.installed
+# the gates: ruff and mypy (with the pydantic plugin, pyproject.toml) clean on the code
+lint: $(VENV)/.installed
+	$(VENV)/bin/ruff check camcore service
+	$(VENV)/bin/mypy camcore service
+
+test: test-tools $(VENV)/.installed lint
 	$(PY) -m pytest
 
 bench: $(VENV)/.installed

@@ -237,8 +237,8 @@ def direct_answer(req: Req) -> dict[str, list[float]] | None:
     """camcore's own numbers for a JSON table or characteristics request (for --url runs)."""
     import numpy as np
 
-    from service.core import CurveService
-    from service.schemas import CharacteristicsRequest, TableRequest
+    from service.curves.service import CurveService
+    from service.curves.specs import CharacteristicsRequest, TableRequest
     from service.settings import Settings
 
     service = CurveService(Settings())

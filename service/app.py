@@ -5,10 +5,10 @@ from __future__ import annotations
 from fastapi import FastAPI
 
 import camcore
-from service import health
 from service.curves import routes as curves
 from service.curves.service import CurveService
 from service.errors import install_error_handlers
+from service.health import router as health_router
 from service.indexers import routes as indexers
 from service.indexers.service import IndexerService
 from service.middleware import BodySizeLimit
@@ -34,7 +34,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.indexer_service = IndexerService(app.state.curve_service)
     app.state.profile_service = ProfileService(app.state.curve_service)
     install_error_handlers(app)
-    app.include_router(health.router)
+    app.include_router(health_router)
     app.include_router(curves.router)
     app.include_router(indexers.router)
     app.include_router(profiles.router)

@@ -15,7 +15,7 @@ request as a whole (``["body"]`` or ``["query"]``).
 from __future__ import annotations
 
 import logging
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from typing import Any
 
@@ -112,7 +112,7 @@ def _clean_message(msg: str) -> str:
     return msg
 
 
-def _loc_text(loc: tuple[Any, ...] | list[Any]) -> str:
+def _loc_text(loc: Sequence[Any]) -> str:
     parts = [str(p) for p in loc if p not in ("body",)]
     return ".".join(parts) if parts else "body"
 

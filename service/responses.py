@@ -19,6 +19,9 @@ from camcore.errors import NonFiniteResultError
 
 _OPTIONS = orjson.OPT_SERIALIZE_NUMPY | orjson.OPT_NON_STR_KEYS
 
+#: the ``responses=`` map of a route: status → OpenAPI response object
+Responses = dict[int | str, dict[str, Any]]
+
 
 class JSONBody(Response):
     """application/json encoded with orjson (numpy arrays welcome)."""

@@ -13,10 +13,11 @@ from .catalog import CATALOG, CatalogEntry, lookup, named_curve
 from .curve import Curve
 from .extrema import Characteristics
 from .kinds import CURVE_KINDS, CurveKind, build_curve
+from .makino import MAKINO_SPECIAL, makino_curve
 from .points import PointsCurve
 from .polynomial import PolynomialCurve, named_polynomial, polynomial_from_boundary
 from .reverse import ReturnCurve
-from .universal import MAKINO_SPECIAL, UniversalCurve, makino_curve, universal_curve
+from .universal import UniversalCurve, universal_curve
 
 __all__ = [
     "CATALOG",

@@ -25,8 +25,8 @@ from functools import lru_cache
 
 from ..errors import UnknownCurveError
 from .curve import Curve
+from .makino import MAKINO_BREAK_POINTS, makino_curve, modified_constant_velocity, trapecloid_2
 from .polynomial import NAMED_POLYNOMIALS, PolynomialCurve
-from .universal import MAKINO_BREAK_POINTS, makino_curve, modified_constant_velocity, trapecloid_2
 
 MAKINO = "Makino 1977, table 2"
 INDEXMAN = "INDEXMAN technical guide, section 5"

@@ -21,10 +21,11 @@ from ..errors import InvalidParameterError
 from .bezier import BezierCurve
 from .catalog import named_curve
 from .curve import Curve
+from .makino import makino_curve
 from .points import PointsCurve
 from .polynomial import NAMED_POLYNOMIALS, named_polynomial, polynomial_from_boundary
 from .reverse import ReturnCurve
-from .universal import makino_curve, universal_curve
+from .universal import universal_curve
 
 DIRECTIONS = ("rise", "return")
 

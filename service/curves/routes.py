@@ -34,21 +34,21 @@ from service.curves.specs import (
 )
 from service.deps import curve_service
 from service.errors import ErrorAnswer, relocate, within
-from service.responses import JSONBody, encoded_response, wants_csv
+from service.responses import JSONBody, Responses, encoded_response, wants_csv
 from service.routing import OrjsonRoute
 from service.specs import QueryNumbers
 
 router = APIRouter(prefix="/v1/curves", tags=["curves"], route_class=OrjsonRoute)
 
-ERRORS = {
+ERRORS: Responses = {
     400: {"model": ErrorAnswer, "description": "Malformed body"},
     404: {"model": ErrorAnswer, "description": "Unknown curve name (close matches listed)"},
     413: {"model": ErrorAnswer, "description": "Over a configured limit (named in the answer)"},
     422: {"model": ErrorAnswer, "description": "Invalid request (field and reason given)"},
 }
-CSV = {"content": {"text/csv": {"schema": {"type": "string"}}}, "description": "Columns as JSON, or CSV"}
+CSV: dict[str, Any] = {"content": {"text/csv": {"schema": {"type": "string"}}}, "description": "Columns as JSON, or CSV"}
 #: the 200 answer of an operation that answers only CSV (the twin of a JSON table operation)
-CSV_FILE = {"content": {"text/csv": {"schema": {"type": "string"}}},
+CSV_FILE: dict[str, Any] = {"content": {"text/csv": {"schema": {"type": "string"}}},
             "description": "The table as CSV: a header row, then one row per point, one column per quantity"}
 Service = Annotated[CurveService, Depends(curve_service)]
 CurveName = Annotated[str, Path(min_length=1, max_length=80, description="id, alias or Makino number")]
@@ -204,7 +204,7 @@ async def invert_named_curve_csv(
         return await _inverse(service, spec, s, method, table_step, table_decimals, True)
 
 
-VALUE = {
+VALUE: dict[str, Any] = {
     "content": {"text/plain": {"schema": {"type": "string"}, "example": "0.17788776262872125"}},
     "description": "One bare number (Python's shortest round-trip form), e.g. S of MS at T = 0.3",
 }

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
@@ -39,7 +39,7 @@ class IndexerService:
         result = self.indexer(spec).motion(samples)
         return as_dict(result.summary), result.table.columns()
 
-    def position(self, spec: IndexerSpec, output_angle_deg: list[float], method: str, table_step: float,
+    def position(self, spec: IndexerSpec, output_angle_deg: list[float], method: Literal["exact", "table"], table_step: float,
                  table_decimals: int | None) -> dict[str, np.ndarray]:
         self.curves.check_limit("number of output angles", len(output_angle_deg),
                                 self.curves.settings.max_inverse_points, ("output_angle_deg",))

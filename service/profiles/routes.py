@@ -39,7 +39,7 @@ def _content(fmt: ContourFormat) -> dict[str, Any]:
     return {fmt.media_type.split(";")[0]: {"schema": schema}}
 
 
-EXPORTS = {
+EXPORTS: dict[str, Any] = {
     "content": {"text/csv": {"schema": {"type": "string"}}}
     | {key: value for fmt in FORMATS.values() for key, value in _content(fmt).items()},
     "description": "Columns and checks as JSON; the table as CSV; the contour as DXF or X Y Z text",

@@ -8,7 +8,7 @@ import json
 
 import pytest
 
-from service import health
+import service.health as health
 from service.app import create_app
 from service.curves import routes as curves
 from service.indexers import routes as indexers
