@@ -156,6 +156,8 @@ def answer_fields(cls: type) -> list[tuple[str, Any, str | None, bool]]:
 
 def _listify(hint: Any) -> Any:
     origin = typing.get_origin(hint)
+    if origin is np.ndarray:
+        return list[float]
     if origin is tuple:
         args = [a for a in typing.get_args(hint) if a is not Ellipsis]
         return list[args[0]] if args else list[Any]  # type: ignore[valid-type]

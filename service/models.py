@@ -3,8 +3,8 @@
 camcore defines each result once, as a dataclass whose fields carry units in their names
 and descriptions in their metadata; :func:`answer_model` turns one into the Pydantic
 model the route declares, with exactly the fields :func:`camcore.results.as_dict`
-produces. Every field of an answer is always present, so every field is required
-(``None`` where the type allows it).
+produces. A field is required unless the result class gives it a default (it may then be
+``None``); arrays become lists of numbers.
 """
 
 from __future__ import annotations
@@ -29,8 +29,8 @@ def answer_model(result_class: type, name: str, doc: str | None = None) -> type[
         The schema's description (default: the result class's docstring).
     """
     fields: dict[str, Any] = {}
-    for field_name, hint, description, _required in answer_fields(result_class):
-        fields[field_name] = (hint, Field(description=description))
+    for field_name, hint, description, required in answer_fields(result_class):
+        fields[field_name] = (hint, Field(description=description) if required else Field(None, description=description))
     model = create_model(name, __doc__=doc or result_class.__doc__, **fields)
     model.__module__ = __name__
     return model

@@ -144,5 +144,5 @@ class Sizing:
     input_power_kw: float
     input_power_catalog_kw: float
     speed_rpm: float
-    accuracy_mm: float | None
+    accuracy_mm: float | None = None
 

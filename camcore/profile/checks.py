@@ -49,10 +49,10 @@ class ProfileChecks:
     min_pitch_radius_of_curvature_mm: float | None
     convex: bool
     undercut: bool
-    corners_deg: tuple[float, ...] = ()
-    face_min_mm: float | None = None
-    face_max_mm: float | None = None
-    face_width_mm: float | None = None
+    corners_deg: tuple[float, ...]
+    face_min_mm: float | None
+    face_max_mm: float | None
+    face_width_mm: float | None
 
 
 # ---------------------------------------------------------------- exact extremes

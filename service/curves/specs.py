@@ -8,6 +8,8 @@ from typing import Annotated, Any, Literal
 from fastapi.openapi.models import Example
 from pydantic import BaseModel, Field, model_validator
 
+from camcore.curves import Characteristics
+from service.models import answer_model
 from service.specs import BIG, Direction, Finite, Spec, examples
 
 #: the guide's worked examples (INDEXMAN technical guide): the MS curve, Makino's universal
@@ -220,38 +222,8 @@ class InverseTable(BaseModel):
     a: list[float]
 
 
-class CharacteristicsAnswer(BaseModel):
-    """Characteristic values over [T0, T7] and the T of each."""
-
-    vm: float
-    t_vm: float
-    am: float = Field(description="largest |A|, the Am that normalises Q (the value of am_abs)")
-    am_abs: float = Field(description="largest |A| (= am), with its T like every other extreme")
-    t_am_abs: float = Field(description="T of the largest |A|, the earlier peak when Am+ and Am− tie")
-    am_pos: float
-    t_am_pos: float
-    am_neg: float
-    t_am_neg: float
-    jm_pos: float
-    t_jm_pos: float
-    jm_neg: float
-    t_jm_neg: float
-    qm_pos: float
-    t_qm_pos: float
-    qm_neg: float
-    t_qm_neg: float
-    qm_raw_pos: float = Field(description="largest A·V (Makino's QMP)")
-    t_qm_raw_pos: float
-    qm_raw_neg: float = Field(description="smallest A·V (Makino's QMM)")
-    t_qm_raw_neg: float
-    v_max: float
-    t_v_max: float
-    v_min: float
-    t_v_min: float
-    s_max: float
-    t_s_max: float
-    s_min: float
-    t_s_min: float
+CharacteristicsAnswer = answer_model(Characteristics, "CharacteristicsAnswer",
+                                     "Characteristic values over [T0, T7] and the T of each.")
 
 
 class CatalogEntryAnswer(BaseModel):
@@ -262,7 +234,7 @@ class CatalogEntryAnswer(BaseModel):
     source: str
     makino_number: int | None
     parameters: dict[str, object]
-    characteristics: CharacteristicsAnswer
+    characteristics: CharacteristicsAnswer  # type: ignore[valid-type]  # derived answer model (service.models)
 
 
 class CatalogAnswer(BaseModel):

@@ -7,7 +7,9 @@ from typing import Annotated, Literal
 from fastapi.openapi.models import Example
 from pydantic import BaseModel, Field, model_validator
 
+from camcore.indexer import IndexerPosition, MotionSummary, MotionTable, Sizing
 from service.curves.specs import MS_SPEC, CurveSpec, NamedCurveSpec
+from service.models import answer_model
 from service.specs import BIG, Spec, examples
 
 #: physical lower bounds: a subnormal speed or time would make th² underflow to zero
@@ -143,90 +145,21 @@ SIZING_EXAMPLES: dict[str, Example] = {
 }
 
 
-class MotionSummaryAnswer(BaseModel):
-    indexing_time_s: float
-    cycle_time_s: float
-    dwell_time_s: float
-    machine_cycle_time_s: float
-    displacement_deg: float
-    stops: float
-    indexing_angle_deg: float
-    total_indexing_angle_deg: float
-    dwell_angle_deg: float
-    dwells: int
-    speed_rpm: float
-    omega_rad_s: float
-    omega_input_angle_deg: float
-    omega_time_s: float
-    alpha_rad_s2: float
-    alpha_pos_rad_s2: float
-    alpha_pos_input_angle_deg: float
-    alpha_pos_time_s: float
-    alpha_neg_rad_s2: float
-    alpha_neg_input_angle_deg: float
-    alpha_neg_time_s: float
-    jerk_rad_s3: float
-    jerk_pos_rad_s3: float
-    jerk_pos_input_angle_deg: float
-    jerk_pos_time_s: float
-    jerk_neg_rad_s3: float
-    jerk_neg_input_angle_deg: float
-    jerk_neg_time_s: float
+MotionSummaryAnswer = answer_model(MotionSummary, "MotionSummaryAnswer")
 
 
-class MotionTableAnswer(BaseModel):
-    input_angle_deg: list[float]
-    time_s: list[float]
-    output_angle_deg: list[float]
-    omega_rad_s: list[float]
-    alpha_rad_s2: list[float]
-    jerk_rad_s3: list[float]
-    dout_din: list[float]
-    d2out_din2_per_rad: list[float]
+MotionTableAnswer = answer_model(MotionTable, "MotionTableAnswer")
 
 
 class MotionAnswer(BaseModel):
-    summary: MotionSummaryAnswer
-    table: MotionTableAnswer
+    summary: MotionSummaryAnswer  # type: ignore[valid-type]  # derived answer model (service.models)
+    table: MotionTableAnswer  # type: ignore[valid-type]  # derived answer model (service.models)
 
 
-class PositionAnswer(BaseModel):
-    output_angle_deg: list[float]
-    input_angle_deg: list[float]
-    time_s: list[float]
-    omega_rad_s: list[float]
-    alpha_rad_s2: list[float]
-    t: list[float]
-    v: list[float]
-    a: list[float]
+PositionAnswer = answer_model(IndexerPosition, "PositionAnswer")
 
 
-class SizingAnswer(BaseModel):
-    inertia_kgm2: float
-    mass_kg: float
-    alpha_max_rad_s2: float
-    omega_max_rad_s: float
-    inertia_torque_nm: float
-    friction_torque_nm: float
-    work_torque_nm: float
-    output_torque_nm: float
-    design_output_torque_nm: float
-    service_factor: float
-    efficiency: float
-    input_torque_nm: float
-    input_torque_t: float
-    input_torque_input_angle_deg: float
-    input_torque_time_s: float
-    input_torque_pos_nm: float
-    input_torque_pos_t: float
-    input_torque_neg_nm: float
-    input_torque_neg_t: float
-    input_torque_catalog_nm: float
-    qm: float
-    input_power_kw: float
-    input_power_catalog_kw: float
-    speed_rpm: float
-    accuracy_mm: float | None = None
+SizingAnswer = answer_model(Sizing, "SizingAnswer")
 
 
 class AccuracyAnswer(BaseModel):

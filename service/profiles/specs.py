@@ -5,9 +5,11 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 from fastapi.openapi.models import Example
-from pydantic import BaseModel, Field, model_validator
+from pydantic import Field, model_validator
 
+from camcore.profile import BaseCircleResult, ProfileChecks
 from service.curves.specs import MS_SPEC, BezierCurveSpec, CurveSpec, PointsCurveSpec
+from service.models import answer_model
 from service.specs import BIG, DefaultsInDescriptions, Spec, examples
 
 Length = Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]
@@ -152,19 +154,7 @@ BASE_CIRCLE_EXAMPLES: dict[str, Example] = {
 }
 
 
-class ProfileChecksAnswer(BaseModel):
-    max_pressure_angle_deg: float
-    max_pressure_angle_at_deg: float
-    max_pressure_angle_signed_deg: float
-    min_radius_of_curvature_mm: float
-    min_radius_of_curvature_at_deg: float
-    min_pitch_radius_of_curvature_mm: float | None
-    convex: bool
-    undercut: bool
-    corners_deg: list[float]
-    face_min_mm: float | None
-    face_max_mm: float | None
-    face_width_mm: float | None
+ProfileChecksAnswer = answer_model(ProfileChecks, "ProfileChecksAnswer")
 
 
 class ProfileAnswer(DefaultsInDescriptions):
@@ -182,13 +172,7 @@ class ProfileAnswer(DefaultsInDescriptions):
     pitch_radius_of_curvature_mm: list[float | None]
     contact_offset_mm: list[float] | None = Field(
         None, description="flat-faced follower: where the face touches the cam (absent otherwise)")
-    checks: ProfileChecksAnswer
+    checks: ProfileChecksAnswer  # type: ignore[valid-type]  # derived answer model (service.models)
 
 
-class BaseCircleAnswer(BaseModel):
-    base_radius_mm: float
-    active_constraint: Literal["pressure_angle", "radius_of_curvature", "geometry"]
-    max_pressure_angle_deg: float
-    min_radius_of_curvature_mm: float
-    radius_for_pressure_angle_mm: float | None
-    radius_for_curvature_mm: float | None
+BaseCircleAnswer = answer_model(BaseCircleResult, "BaseCircleAnswer")
