@@ -23,7 +23,7 @@ from .catalog import named_curve
 from .curve import Curve
 from .makino import makino_curve
 from .points import PointsCurve
-from .polynomial import NAMED_POLYNOMIALS, named_polynomial, polynomial_from_boundary
+from .polynomial import NAMED_POLYNOMIALS, check_choice, named_polynomial, polynomial_from_boundary
 from .reverse import ReturnCurve
 from .universal import universal_curve
 
@@ -33,12 +33,13 @@ DIRECTIONS = ("rise", "return")
 @dataclass(frozen=True)
 class SizeLimit:
     """A size a kind's spec may not exceed: its name in messages, the setting that holds
-    the limit, the builder's keyword that takes it, and how to read the size off the
-    parameters."""
+    the limit, the builder's keyword that takes it, the parameter it is read from, and how
+    to read the size off the parameters."""
 
     what: str
     setting: str
     argument: str
+    parameter: str
     size: Callable[[Mapping[str, Any]], int]
 
 
@@ -55,12 +56,10 @@ class CurveKind:
 
 def _polynomial(name: str | None = None, start: Mapping[str, float | None] | None = None,
                 end: Mapping[str, float | None] | None = None) -> Curve:
+    check_choice(name, start, end)
     if name is not None:
-        if start is not None or end is not None:
-            raise InvalidParameterError("give a polynomial name or boundary conditions, not both")
         return named_polynomial(name)
-    if start is None or end is None:
-        raise InvalidParameterError("give a polynomial name, or both start and end boundary conditions")
+    assert start is not None and end is not None  # check_choice
     return polynomial_from_boundary(start, end)
 
 
@@ -76,9 +75,9 @@ CURVE_KINDS: dict[str, CurveKind] = {
                   _polynomial, ("name", "start", "end")),
         CurveKind("bezier", "lift over drive angle as a Bezier curve in the (θ, h) plane", BezierCurve,
                   ("control_points",),
-                  SizeLimit("Bezier degree", "max_bezier_degree", "max_degree", lambda p: len(p["control_points"]) - 1)),
+                  SizeLimit("Bezier degree", "max_bezier_degree", "max_degree", "control_points", lambda p: len(p["control_points"]) - 1)),
         CurveKind("points", "a measured table (t, s), interpolated by a smooth spline", PointsCurve, ("t", "s", "v"),
-                  SizeLimit("number of points", "max_curve_points", "max_points", lambda p: len(p["t"]))),
+                  SizeLimit("number of points", "max_curve_points", "max_points", "t", lambda p: len(p["t"]))),
     )
 }
 

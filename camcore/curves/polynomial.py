@@ -24,9 +24,9 @@ from .base import FloatArray
 from .curve import Curve
 
 NAMED_POLYNOMIALS: dict[str, tuple[float, ...]] = {
-    "constant-velocity": (0.0, 1.0),
     "3-4-5": (0.0, 0.0, 0.0, 10.0, -15.0, 6.0),
     "4-5-6-7": (0.0, 0.0, 0.0, 0.0, 35.0, -84.0, 70.0, -20.0),
+    "constant-velocity": (0.0, 1.0),
 }
 
 _ORDER_KEYS = ("s", "v", "a", "j")
@@ -129,3 +129,24 @@ def polynomial_from_boundary(start: Mapping[str, float | None], end: Mapping[str
             matrix[i, k] = math.perm(k, order) * (where ** (k - order) if k > order else 1.0)
     coef = np.linalg.solve(matrix, np.array(rhs))
     return PolynomialCurve(coef)
+
+
+def check_choice(name: str | None, start: object, end: object) -> None:
+    """A polynomial law is given by name, or by both end conditions, not both.
+
+    Parameters
+    ----------
+    name : str or None
+        A key of :data:`NAMED_POLYNOMIALS`.
+    start, end : object
+        End conditions at T = 0 and T = 1, or None.
+
+    References
+    ----------
+    Norton, Cam Design and Manufacturing Handbook, ch. 3 (polynomial laws from boundary
+    conditions).
+    """
+    if name is None and (start is None or end is None):
+        raise InvalidParameterError("give a polynomial name, or both start and end boundary conditions")
+    if name is not None and (start is not None or end is not None):
+        raise InvalidParameterError("give a polynomial name or boundary conditions, not both")

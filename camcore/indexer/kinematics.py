@@ -77,6 +77,51 @@ def accuracy_mm(arc_seconds: ArrayLike, radius_mm: ArrayLike) -> Any:
     return float(x) if x.ndim == 0 else x
 
 
+def check_alternatives(stops: Any, swing_angle_deg: Any, speed_rpm: Any, cycle_time_s: Any) -> None:
+    """Exactly one of stops and swing angle, and exactly one of speed and cycle time.
+
+    Parameters
+    ----------
+    stops : int or None
+        n, stops per output turn [-].
+    swing_angle_deg : float or None
+        ψ, swing of an oscillating unit [deg].
+    speed_rpm : float or None
+        N, input speed [rpm].
+    cycle_time_s : float or None
+        t0, unit cycle time [s].
+
+    References
+    ----------
+    INDEXMAN technical guide, sections 2 and 3 (n = 360/ψ; t0 = 60/(N·z)).
+    """
+    if (stops is None) == (swing_angle_deg is None):
+        raise InvalidParameterError("give exactly one of stops (n) and swing_angle_deg (ψ, oscillating units).")
+    if (speed_rpm is None) == (cycle_time_s is None):
+        raise InvalidParameterError("give exactly one of speed_rpm (N) and cycle_time_s (t0 = 60/(N·z)).")
+
+
+def check_total_indexing_angle(indexing_angle_deg: float, dwells: int) -> None:
+    """θt = θh·z must not exceed one input turn.
+
+    Parameters
+    ----------
+    indexing_angle_deg : float
+        θh, input angle per index [deg].
+    dwells : int
+        z, indexes per input turn [-].
+
+    References
+    ----------
+    INDEXMAN technical guide, section 2 (θt = θh·z).
+    """
+    if indexing_angle_deg * dwells > 360 * (1 + 1e-12):
+        raise InvalidParameterError(
+            f"the total indexing angle θt = θh·z must not exceed 360°, but indexing_angle_deg × dwells = "
+            f"{indexing_angle_deg!r} × {dwells} = {indexing_angle_deg * dwells!r}."
+        )
+
+
 @dataclass(frozen=True, kw_only=True)
 class Indexer:
     """A cam indexer (or oscillating unit) running at constant input speed.
@@ -130,11 +175,7 @@ class Indexer:
             put(self, "curve", named_curve(self.curve))
         if not isinstance(self.curve, Curve):
             raise InvalidParameterError(f"curve must be a camcore Curve or a catalog name, not {self.curve!r}.")
-        if (self.stops is None) == (self.swing_angle_deg is None):
-            raise InvalidParameterError(
-                "give exactly one of stops (n, stops per output turn) and swing_angle_deg "
-                "(ψ, for oscillating units)."
-            )
+        check_alternatives(self.stops, self.swing_angle_deg, self.speed_rpm, self.cycle_time_s)
         if self.stops is not None:
             put(self, "stops", count("stops", self.stops))
         else:
@@ -148,15 +189,7 @@ class Indexer:
         put(self, "indexing_angle_deg", theta_h)
         z = count("dwells", self.dwells)
         put(self, "dwells", z)
-        if theta_h * z > 360 * (1 + 1e-12):
-            raise InvalidParameterError(
-                f"the total indexing angle θt = θh·z must not exceed 360°, but "
-                f"indexing_angle_deg × dwells = {theta_h!r} × {z} = {theta_h * z!r}."
-            )
-        if (self.speed_rpm is None) == (self.cycle_time_s is None):
-            raise InvalidParameterError(
-                "give exactly one of speed_rpm (N, input speed) and cycle_time_s (t0 = 60/(N·z))."
-            )
+        check_total_indexing_angle(theta_h, z)
         if self.speed_rpm is not None:
             put(self, "speed_rpm", positive("speed_rpm", self.speed_rpm))
         else:

@@ -11,18 +11,12 @@ from typing import Any
 import numpy as np
 
 import camcore
-from camcore.curves import Curve
+from camcore.curves import CURVE_KINDS, Curve, build_curve
 from camcore.errors import LimitExceededError, NonMonotoneError
 from camcore.results import as_dict
 from service.cache import LRUCache
 from service.curves.specs import (
-    BezierCurveSpec,
     CurveSpec,
-    MakinoCurveSpec,
-    NamedCurveSpec,
-    PointsCurveSpec,
-    PolynomialCurveSpec,
-    UniversalCurveSpec,
 )
 from service.errors import within
 from service.responses import encode_table, encode_value
@@ -57,38 +51,19 @@ class CurveService:
             self._check_spec_size(spec)
             return self.curves.get_or_create(spec.cache_key(), lambda: self._build(spec))
 
+    def _limits(self) -> dict[str, int]:
+        return {"max_bezier_degree": self.settings.max_bezier_degree,
+                "max_curve_points": self.settings.max_curve_points}
+
     def _check_spec_size(self, spec: CurveSpec) -> None:
-        if isinstance(spec, BezierCurveSpec):
-            self.check_limit("Bezier degree", len(spec.control_points) - 1, self.settings.max_bezier_degree,
-                             ("control_points",))
-        if isinstance(spec, PointsCurveSpec):
-            self.check_limit("number of points", len(spec.t), self.settings.max_curve_points, ("t",))
+        """413 before any work when a spec is over its kind's size limit (CURVE_KINDS)."""
+        limit = CURVE_KINDS[spec.type].limit
+        if limit is not None:
+            size = limit.size({limit.parameter: getattr(spec, limit.parameter)})
+            self.check_limit(limit.what, size, self._limits()[limit.setting], (limit.parameter,))
 
     def _build(self, spec: CurveSpec) -> Curve:
-        rise = self._build_rise(spec)
-        return camcore.ReturnCurve(rise) if spec.direction == "return" else rise
-
-    def _build_rise(self, spec: CurveSpec) -> Curve:
-        if isinstance(spec, NamedCurveSpec):
-            return camcore.named_curve(spec.name)
-        if isinstance(spec, MakinoCurveSpec):
-            return camcore.makino_curve(spec.number, z=spec.z, t4=spec.t4, t1=spec.t1, t3=spec.t3)
-        if isinstance(spec, UniversalCurveSpec):
-            return camcore.universal_curve(spec.t, m=spec.m, v0=spec.v0, v7=spec.v7, s0=spec.s0, s7=spec.s7)
-        if isinstance(spec, PolynomialCurveSpec):
-            if spec.name is not None:
-                return camcore.named_polynomial(spec.name)
-            assert spec.start is not None and spec.end is not None
-            return camcore.polynomial_from_boundary(spec.start.model_dump(), spec.end.model_dump())
-        if isinstance(spec, BezierCurveSpec):
-            from camcore.curves.bezier import BezierCurve
-
-            return BezierCurve(spec.control_points, max_degree=self.settings.max_bezier_degree)
-        if isinstance(spec, PointsCurveSpec):
-            from camcore.curves.points import PointsCurve
-
-            return PointsCurve(spec.t, spec.s, v=spec.v, max_points=self.settings.max_curve_points)
-        raise TypeError(f"unknown curve spec {type(spec).__name__}")  # pragma: no cover - union is closed
+        return build_curve(spec.type, spec.parameters(), spec.direction, self._limits())
 
     # A route answers quick work on the event loop and sends the rest to a worker thread.
     def is_quick_table(self, spec: CurveSpec, rows: int) -> bool:

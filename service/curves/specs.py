@@ -9,6 +9,9 @@ from fastapi.openapi.models import Example
 from pydantic import BaseModel, Field, model_validator
 
 from camcore.curves import Characteristics
+from camcore.curves.kinds import POLYNOMIAL_NAMES
+from camcore.curves.polynomial import check_choice
+from camcore.curves.universal import check_break_points
 from service.models import answer_model
 from service.specs import BIG, Direction, Finite, Spec, examples
 
@@ -19,7 +22,18 @@ UNIVERSAL_MS_SPEC: dict[str, Any] = {"type": "universal", "t": [0, 0.125, 0.125,
 
 
 # ----------------------------------------------------------------------------- curve specs
-class NamedCurveSpec(Spec):
+class CurveKindSpec(Spec):
+    """A curve spec: its ``type`` is a kind of camcore.curves.kinds.CURVE_KINDS, its other
+    fields (but ``direction``) are that kind's parameters."""
+
+    def parameters(self) -> dict[str, Any]:
+        """The kind's parameters, as camcore's builder takes them."""
+        return {name: getattr(self, name) if not isinstance(getattr(self, name), Spec)
+                else getattr(self, name).model_dump()
+                for name in type(self).model_fields if name not in ("type", "direction")}
+
+
+class NamedCurveSpec(CurveKindSpec):
     """A catalog curve by id, alias or Makino number (case-insensitive)."""
 
     model_config = examples(MS_SPEC, {"type": "named", "name": "cycloid", "direction": "return"})
@@ -28,7 +42,7 @@ class NamedCurveSpec(Spec):
     direction: Direction = "rise"
 
 
-class MakinoCurveSpec(Spec):
+class MakinoCurveSpec(CurveKindSpec):
     """Makino's curve by classification number, with its own parameters.
 
     1: ``z`` (0 < z ≤ 1); 2: ``t4`` (0 ≤ T4 < 1); 4: ``t1``, ``t3`` (0 < T1 ≤ T3 ≤ 0.5);
@@ -45,7 +59,7 @@ class MakinoCurveSpec(Spec):
     direction: Direction = "rise"
 
 
-class UniversalCurveSpec(Spec):
+class UniversalCurveSpec(CurveKindSpec):
     """Makino's universal cam curve directly: break points and end conditions."""
 
     model_config = examples(UNIVERSAL_MS_SPEC,
@@ -62,14 +76,7 @@ class UniversalCurveSpec(Spec):
 
     @model_validator(mode="after")
     def _check(self) -> UniversalCurveSpec:
-        for i in range(7):
-            if self.t[i + 1] < self.t[i]:
-                raise ValueError(
-                    f"break points must satisfy T0 ≤ T1 ≤ … ≤ T7, but T{i + 1} = {self.t[i + 1]} "
-                    f"is less than T{i} = {self.t[i]}"
-                )
-        if not self.t[7] > self.t[0]:
-            raise ValueError("break points need T7 > T0 (a stroke of positive duration)")
+        check_break_points(self.t)  # camcore's rule and sentence (422)
         if self.m is not None and self.v7 is not None:
             raise ValueError("give either m or v7, not both: with m fixed, V7 is a result")
         return self
@@ -85,27 +92,24 @@ class BoundaryConditions(Spec):
     j: Finite | None = None
 
 
-class PolynomialCurveSpec(Spec):
+class PolynomialCurveSpec(CurveKindSpec):
     """A polynomial law by name, or the least-degree polynomial meeting end conditions."""
 
     model_config = examples({"type": "polynomial", "name": "3-4-5"},
                             {"type": "polynomial", "start": {"s": 0, "v": 0, "a": 0}, "end": {"s": 1, "v": 0, "a": 0}})
     type: Literal["polynomial"] = "polynomial"
-    name: Literal["3-4-5", "4-5-6-7", "constant-velocity"] | None = None
+    name: Literal[POLYNOMIAL_NAMES] | None = None  # type: ignore[valid-type]  # the registry's names
     start: BoundaryConditions | None = None
     end: BoundaryConditions | None = None
     direction: Direction = "rise"
 
     @model_validator(mode="after")
     def _check(self) -> PolynomialCurveSpec:
-        if self.name is None and (self.start is None or self.end is None):
-            raise ValueError("give a polynomial name, or both start and end boundary conditions")
-        if self.name is not None and (self.start is not None or self.end is not None):
-            raise ValueError("give a polynomial name or boundary conditions, not both")
+        check_choice(self.name, self.start, self.end)  # camcore's rule and sentence (422)
         return self
 
 
-class BezierCurveSpec(Spec):
+class BezierCurveSpec(CurveKindSpec):
     """Lift h [mm] over drive angle θ [deg] as a Bezier curve in the (θ, h) plane."""
 
     model_config = examples({"type": "bezier", "control_points": [[0, 0], [30, 0], [60, 10], [90, 10]]})
@@ -117,7 +121,7 @@ class BezierCurveSpec(Spec):
     direction: Direction = "rise"
 
 
-class PointsCurveSpec(Spec):
+class PointsCurveSpec(CurveKindSpec):
     """A measured or spreadsheet table (t, s), interpolated by a smooth spline."""
 
     model_config = examples({"type": "points", "t": [0, 10, 20, 30, 40], "s": [0, 1, 4, 7, 8]})

@@ -8,6 +8,7 @@ from fastapi.openapi.models import Example
 from pydantic import BaseModel, Field, model_validator
 
 from camcore.indexer import IndexerPosition, MotionSummary, MotionTable, Sizing
+from camcore.indexer.kinematics import check_alternatives, check_total_indexing_angle
 from service.curves.specs import MS_SPEC, CurveSpec, NamedCurveSpec
 from service.models import answer_model
 from service.specs import BIG, Spec, examples
@@ -40,15 +41,9 @@ class IndexerSpec(Spec):
 
     @model_validator(mode="after")
     def _check(self) -> IndexerSpec:
-        if (self.stops is None) == (self.swing_angle_deg is None):
-            raise ValueError("give exactly one of stops (n) and swing_angle_deg (ψ, oscillating units)")
-        if (self.speed_rpm is None) == (self.cycle_time_s is None):
-            raise ValueError("give exactly one of speed_rpm (N) and cycle_time_s (t0 = 60/(N·z))")
-        if self.indexing_angle_deg * self.dwells > 360 * (1 + 1e-12):
-            raise ValueError(
-                f"the total indexing angle θt = θh·z must not exceed 360°, but indexing_angle_deg × dwells = "
-                f"{self.indexing_angle_deg} × {self.dwells} = {self.indexing_angle_deg * self.dwells}"
-            )
+        # the core's own rules (camcore raises ValueError subclasses: 422 with the same sentence)
+        check_alternatives(self.stops, self.swing_angle_deg, self.speed_rpm, self.cycle_time_s)
+        check_total_indexing_angle(self.indexing_angle_deg, self.dwells)
         return self
 
 
