@@ -114,18 +114,13 @@ def critical_points(curve: PiecewiseCurve, slopes: Callable[[list[FloatArray]], 
     return np.concatenate(times), np.concatenate(pieces)
 
 
-def peaks_of(curve: PiecewiseCurve, times: FloatArray, pieces: NDArray[np.intp], values: FloatArray
-             ) -> tuple[Extremum, Extremum]:
+def peaks_of(times: FloatArray, values: FloatArray) -> tuple[Extremum, Extremum]:
     """(max, min) of values at candidate times; ties go to the earliest T.
 
     Parameters
     ----------
-    curve : PiecewiseCurve
-        The curve the candidates belong to; not used (the values come evaluated).
     times : ndarray
         Candidate times T, in any order [-].
-    pieces : ndarray of int
-        The piece of each candidate [-]; not used either.
     values : ndarray
         The function at each candidate [-] (any unit; the extremes keep it).
 
@@ -168,11 +163,11 @@ def characteristics(curve: PiecewiseCurve) -> Characteristics:
         curve, lambda d: np.vstack([d[1], d[2], d[3], d[4], d[3] * d[1] + d[2] * d[2]])
     )
     s_, v, acc, j = curve.eval_pieces(t_all, k_all, 3)
-    s_max, s_min = peaks_of(curve, t_all, k_all, s_)
-    v_max, v_min = peaks_of(curve, t_all, k_all, v)
-    am_pos, am_neg = peaks_of(curve, t_all, k_all, acc)
-    jm_pos, jm_neg = peaks_of(curve, t_all, k_all, j)
-    q_pos, q_neg = peaks_of(curve, t_all, k_all, acc * v)
+    s_max, s_min = peaks_of(t_all, s_)
+    v_max, v_min = peaks_of(t_all, v)
+    am_pos, am_neg = peaks_of(t_all, acc)
+    jm_pos, jm_neg = peaks_of(t_all, j)
+    q_pos, q_neg = peaks_of(t_all, acc * v)
     vm = v_max if abs(v_max.value) >= abs(v_min.value) else v_min
     am = max(abs(am_pos.value), abs(am_neg.value))
     # the T of the largest |A|; the earlier of the two peaks when they tie, and they tie

@@ -32,7 +32,7 @@ def _power_balance_peaks(curve: Curve, c1: float, c2: float) -> tuple[float, flo
     # f' = c1·(J·V + A²) + c2·A: its roots and the piece ends are where f can peak
     t_all, k_all = curve.critical_points(lambda d: c1 * (d[3] * d[1] + d[2] * d[2]) + c2 * d[2])
     _, v, a = curve.eval_pieces(t_all, k_all, 2)
-    top, bottom = peaks_of(curve, t_all, k_all, np.asarray(c1 * v * a + c2 * v, dtype=np.float64))
+    top, bottom = peaks_of(t_all, np.asarray(c1 * v * a + c2 * v, dtype=np.float64))
     return top.value, top.t, bottom.value, bottom.t
 
 
