@@ -67,7 +67,7 @@ import numpy as np
 
 from ..curves.base import FloatArray
 from ..errors import GeometryError, InvalidParameterError
-from .followers import Follower, FollowerModel, Kinematics, follower_model
+from .followers import Follower, FollowerModel, Kinematics, check_follower, follower_model
 from .lift import TWO_PI, CurveLift, LiftSchedule, Segment
 
 
@@ -177,8 +177,7 @@ def validate(spec: CamSpec) -> None:
     rb = spec.base_radius_mm
     if not (math.isfinite(rb) and rb > 0):
         raise GeometryError(f"The base radius must be positive (it is {rb!r} mm).")
-    if f.type == "roller" and not (math.isfinite(f.roller_radius_mm) and f.roller_radius_mm > 0):
-        raise GeometryError(f"A roller follower needs a roller radius > 0 (it is {f.roller_radius_mm!r} mm).")
+    check_follower(f)
     if not math.isfinite(f.offset_mm):
         raise InvalidParameterError("offset_mm must be finite.")
     model.check(rb)

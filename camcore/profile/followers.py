@@ -331,6 +331,30 @@ FOLLOWER_TYPES: tuple[str, ...] = tuple(dict.fromkeys(t for t, _ in FOLLOWERS))
 FOLLOWER_MOTIONS: tuple[str, ...] = tuple(dict.fromkeys(m for _, m in FOLLOWERS))
 
 
+def check_follower(follower: Follower) -> None:
+    """The rules a follower's own fields must meet, whatever the cam (the service's spec
+    calls this too, so the rule and its sentence exist once).
+
+    Parameters
+    ----------
+    follower : Follower
+
+    References
+    ----------
+    Shinzato and Kunigami (1988), fig. 1 (the follower geometry); docs/architecture.md,
+    checks live once.
+    """
+    if follower.type == "roller" and not (math.isfinite(follower.roller_radius_mm) and follower.roller_radius_mm > 0):
+        raise GeometryError(
+            f"A roller follower needs a roller radius > 0 (roller_radius_mm > 0; it is {follower.roller_radius_mm!r} mm).")
+    if follower.motion == "oscillating":
+        d, arm = follower.pivot_distance_mm, follower.arm_length_mm
+        if d is None or not (math.isfinite(d) and d > 0):
+            raise GeometryError("An oscillating follower needs pivot_distance_mm > 0.")
+        if follower.type != "flat-faced" and (arm is None or not (math.isfinite(arm) and arm > 0)):
+            raise GeometryError("An oscillating follower needs arm_length_mm > 0.")
+
+
 def follower_model(follower: Follower) -> FollowerModel:
     """The behaviour of this follower (its class from :data:`FOLLOWERS`).
 

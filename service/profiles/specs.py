@@ -7,7 +7,8 @@ from typing import Annotated, Literal
 from fastapi.openapi.models import Example
 from pydantic import Field, model_validator
 
-from camcore.profile import BaseCircleResult, ProfileChecks
+from camcore.profile import BaseCircleResult, Follower, ProfileChecks
+from camcore.profile.followers import check_follower
 from service.curves.specs import MS_SPEC, BezierCurveSpec, CurveSpec, PointsCurveSpec
 from service.models import answer_model
 from service.specs import BIG, DefaultsInDescriptions, Spec, examples
@@ -39,13 +40,10 @@ class FollowerSpec(Spec):
 
     @model_validator(mode="after")
     def _check(self) -> FollowerSpec:
-        if self.type == "roller" and not self.roller_radius_mm > 0:
-            raise ValueError("a roller follower needs roller_radius_mm > 0")
-        if self.motion == "oscillating":
-            if self.pivot_distance_mm is None:
-                raise ValueError("an oscillating follower needs pivot_distance_mm")
-            if self.type != "flat-faced" and self.arm_length_mm is None:
-                raise ValueError("an oscillating follower needs arm_length_mm")
+        # camcore's rule and sentence (a ValueError: 422)
+        check_follower(Follower(type=self.type, motion=self.motion, offset_mm=self.offset_mm,
+                                roller_radius_mm=self.roller_radius_mm, arm_length_mm=self.arm_length_mm,
+                                pivot_distance_mm=self.pivot_distance_mm))
         return self
 
 
