@@ -53,13 +53,13 @@ class Lift(Protocol):
 class Segment:
     """One stretch of a lift schedule.
 
-    kind: ``"rise"``, ``"dwell"`` or ``"return"``; ``angle_deg``: its cam angle;
+    type: ``"rise"``, ``"dwell"`` or ``"return"``; ``angle_deg``: its cam angle;
     ``lift_mm`` (translating followers) or ``swing_deg`` (oscillating): the rise or the
     drop; ``curve``: the motion law of a rise (a return plays it backwards with
     :class:`ReturnCurve`; pass a curve that rises, S: S0 → S7). ``None`` = cycloid.
     """
 
-    kind: Literal["rise", "dwell", "return"]
+    type: Literal["rise", "dwell", "return"]
     angle_deg: float
     lift_mm: float = 0.0
     curve: Curve | None = None
@@ -94,14 +94,14 @@ class LiftSchedule:
             raise InvalidParameterError("A lift schedule needs at least one segment.")
         total = 0.0
         for i, seg in enumerate(segments):
-            if seg.kind not in ("rise", "dwell", "return"):
+            if seg.type not in ("rise", "dwell", "return"):
                 raise InvalidParameterError(
-                    f"segments[{i}]: type must be 'rise', 'dwell' or 'return', not {seg.kind!r}.")
+                    f"segments[{i}]: type must be 'rise', 'dwell' or 'return', not {seg.type!r}.")
             if not (math.isfinite(seg.angle_deg) and seg.angle_deg > 0):
                 raise InvalidParameterError(f"segments[{i}]: angle_deg must be a positive number of degrees.")
-            if seg.kind != "dwell" and not (math.isfinite(seg.amount) and seg.amount >= 0):
+            if seg.type != "dwell" and not (math.isfinite(seg.amount) and seg.amount >= 0):
                 raise InvalidParameterError(
-                    f"segments[{i}]: the {seg.kind} must be a finite, non-negative lift (it is {seg.amount!r}).")
+                    f"segments[{i}]: the {seg.type} must be a finite, non-negative lift (it is {seg.amount!r}).")
             total += seg.angle_deg
         if abs(total - 360.0) > ANGLE_TOLERANCE_DEG:
             raise InvalidParameterError(
@@ -111,17 +111,17 @@ class LiftSchedule:
         start = 0.0
         for i, seg in enumerate(segments):
             span = math.radians(seg.angle_deg)
-            if seg.kind == "dwell":
+            if seg.type == "dwell":
                 pieces.append(_Piece(start, span, level, 0.0, None, 0.0, 1.0))
             else:
                 rise = seg.curve if seg.curve is not None else named_curve("cycloid")
-                curve = rise if seg.kind == "rise" else ReturnCurve(rise)
+                curve = rise if seg.type == "rise" else ReturnCurve(rise)
                 s0, s1 = curve.s_start, curve.s_end
-                if s1 == s0 or (seg.kind == "rise") != (s1 > s0):
+                if s1 == s0 or (seg.type == "rise") != (s1 > s0):
                     raise InvalidParameterError(
-                        f"segments[{i}]: the curve of a {seg.kind} must run from S0 to a different S7 "
+                        f"segments[{i}]: the curve of a {seg.type} must run from S0 to a different S7 "
                         "(give the rising curve; a return plays it backwards).")
-                amount = seg.amount if seg.kind == "rise" else -seg.amount
+                amount = seg.amount if seg.type == "rise" else -seg.amount
                 pieces.append(_Piece(start, span, level, amount, curve, s0, s1))
                 level += amount
                 if level < -CLOSURE_TOLERANCE:

@@ -6,7 +6,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from camcore import indexer as core
+import camcore
 from camcore.errors import NonMonotoneError
 from camcore.results import as_dict
 from service.curves.service import CurveService
@@ -20,10 +20,10 @@ class IndexerService:
     def __init__(self, curves: CurveService):
         self.curves = curves
 
-    def indexer(self, spec: IndexerSpec) -> core.Indexer:
+    def indexer(self, spec: IndexerSpec) -> camcore.indexer.Indexer:
         curve = self.curves.curve(spec.curve, at=("indexer", "curve"))
         with within("indexer"):
-            return core.Indexer(
+            return camcore.indexer.Indexer(
                 stops=spec.stops,
                 swing_angle_deg=spec.swing_angle_deg,
                 indexing_angle_deg=spec.indexing_angle_deg,
@@ -53,9 +53,9 @@ class IndexerService:
         parts = []
         for i, part in enumerate(load.parts):
             with within("load", "parts", i):
-                parts.append(core.LoadPart(**part.model_dump()))
+                parts.append(camcore.indexer.LoadPart(**part.model_dump()))
         with within("load"):
-            core_load = core.Load(
+            core_load = camcore.indexer.Load(
                 inertia_kgm2=load.inertia_kgm2,
                 parts=parts,
                 friction_coefficient=load.friction_coefficient,
@@ -65,11 +65,11 @@ class IndexerService:
                 service_factor=load.service_factor,
                 efficiency=load.efficiency,
             )
-        result = core.size(self.indexer(spec), core_load, accuracy_arc_seconds=load.accuracy_arc_seconds,
+        result = camcore.indexer.size(self.indexer(spec), core_load, accuracy_arc_seconds=load.accuracy_arc_seconds,
                            accuracy_radius_mm=load.accuracy_radius_mm)
         return as_dict(result)
 
     @staticmethod
     def accuracy(arc_seconds: float, radius_mm: float) -> dict[str, float]:
         return {"arc_seconds": arc_seconds, "radius_mm": radius_mm,
-                "accuracy_mm": float(core.accuracy_mm(arc_seconds, radius_mm))}
+                "accuracy_mm": float(camcore.indexer.accuracy_mm(arc_seconds, radius_mm))}

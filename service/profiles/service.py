@@ -6,8 +6,8 @@ from typing import Any
 
 import numpy as np
 
+import camcore
 from camcore import export
-from camcore import profile as core
 from camcore.results import as_dict
 from service.curves.service import CurveService
 from service.errors import within
@@ -24,9 +24,9 @@ class ProfileService:
     def __init__(self, curves: CurveService):
         self.curves = curves
 
-    def cam(self, spec: ProfileSpec, base_radius_mm: float | None = None) -> core.CamSpec:
+    def cam(self, spec: ProfileSpec, base_radius_mm: float | None = None) -> camcore.profile.CamSpec:
         f = spec.follower
-        follower = core.Follower(type=f.type, motion=f.motion, offset_mm=f.offset_mm,
+        follower = camcore.profile.Follower(type=f.type, motion=f.motion, offset_mm=f.offset_mm,
                                  roller_radius_mm=f.roller_radius_mm, arm_length_mm=f.arm_length_mm,
                                  pivot_distance_mm=f.pivot_distance_mm)
         radius = spec.base_radius_mm if base_radius_mm is None else base_radius_mm
@@ -35,29 +35,29 @@ class ProfileService:
             for i, s in enumerate(spec.segments):
                 law = None if s.curve is None else self.curves.curve(s.curve, at=("profile", "segments", i, "curve"))
                 with within("profile", "segments", i):
-                    segments.append(core.Segment(kind=s.type, angle_deg=s.angle_deg, lift_mm=s.lift_mm or 0.0,
+                    segments.append(camcore.profile.Segment(type=s.type, angle_deg=s.angle_deg, lift_mm=s.lift_mm or 0.0,
                                                  swing_deg=s.swing_deg, curve=law))
             with within("profile"):
-                return core.make_cam(follower, radius, segments=segments, rotation=spec.rotation,
+                return camcore.profile.make_cam(follower, radius, segments=segments, rotation=spec.rotation,
                                      rotation_ratio=spec.rotation_ratio)
         assert spec.lift is not None
         lift = self.curves.curve(spec.lift, at=("profile", "lift"))
         with within("profile"):
-            return core.make_cam(follower, radius, lift_curve=lift, rotation=spec.rotation,
+            return camcore.profile.make_cam(follower, radius, lift_curve=lift, rotation=spec.rotation,
                                  rotation_ratio=spec.rotation_ratio)
 
-    def profile(self, spec: ProfileSpec, samples: int | None, cam_angle_deg: list[float] | None) -> core.ProfileResult:
+    def profile(self, spec: ProfileSpec, samples: int | None, cam_angle_deg: list[float] | None) -> camcore.profile.ProfileResult:
         n = len(cam_angle_deg) if cam_angle_deg is not None else int(samples or 361)
         self.curves.check_limit("profile samples", n, self.curves.settings.max_table_samples,
                                 ("cam_angle_deg",) if cam_angle_deg is not None else ("samples",))
         cam = self.cam(spec)
         with within("profile"):
             if cam_angle_deg is not None:
-                return core.compute_profile(cam, np.asarray(cam_angle_deg, dtype=np.float64))
-            return core.sample_profile(cam, n)
+                return camcore.profile.compute_profile(cam, np.asarray(cam_angle_deg, dtype=np.float64))
+            return camcore.profile.sample_profile(cam, n)
 
     @staticmethod
-    def columns(result: core.ProfileResult) -> dict[str, Any]:
+    def columns(result: camcore.profile.ProfileResult) -> dict[str, Any]:
         cols: dict[str, Any] = dict(result.columns())
         cols["pitch_radius_of_curvature_mm"] = result.pitch_radius_of_curvature_mm
         for name in UNBOUNDED_COLUMNS:
@@ -67,17 +67,17 @@ class ProfileService:
         return cols
 
     @staticmethod
-    def checks(result: core.ProfileResult) -> dict[str, Any]:
+    def checks(result: camcore.profile.ProfileResult) -> dict[str, Any]:
         return as_dict(result.checks)
 
     def base_circle(self, spec: ProfileSpec, max_pressure_angle_deg: float | None,
                     min_radius_of_curvature_mm: float | None) -> dict[str, Any]:
         cam = self.cam(spec)
-        result = core.size_base_circle(cam, max_pressure_angle_deg, min_radius_of_curvature_mm)
+        result = camcore.profile.size_base_circle(cam, max_pressure_angle_deg, min_radius_of_curvature_mm)
         return as_dict(result)
 
     @staticmethod
-    def export(result: core.ProfileResult, fmt: str, base_radius_mm: float) -> bytes:
+    def export(result: camcore.profile.ProfileResult, fmt: str, base_radius_mm: float) -> bytes:
         """The file of a contour download in one of :data:`camcore.export.FORMATS`."""
         contour = export.Contour(result.x_mm, result.y_mm, result.cam_angle_deg, base_radius_mm)
         return export.FORMATS[fmt].write(contour)
