@@ -7,7 +7,7 @@ from typing import Annotated, Literal
 from fastapi.openapi.models import Example
 from pydantic import BaseModel, Field, model_validator
 
-from camcore.indexer import IndexerPosition, MotionSummary, MotionTable, Sizing
+from camcore.indexer import IndexerPosition, LoadPart, MotionSummary, MotionTable, Sizing
 from camcore.indexer.kinematics import check_alternatives, check_total_indexing_angle
 from service.curves.specs import MS_SPEC, CurveSpec, NamedCurveSpec
 from service.models import answer_model
@@ -62,15 +62,7 @@ class LoadPartSpec(Spec):
 
     @model_validator(mode="after")
     def _check(self) -> LoadPartSpec:
-        if self.shape in ("disc", "ring") and self.diameter_mm is None:
-            raise ValueError(f"a {self.shape} needs diameter_mm")
-        if self.shape == "ring":
-            if self.inner_diameter_mm is None:
-                raise ValueError("a ring needs inner_diameter_mm")
-            if self.diameter_mm is not None and self.inner_diameter_mm > self.diameter_mm:
-                raise ValueError("a ring's inner_diameter_mm must not exceed its diameter_mm")
-        if self.shape == "block" and (self.a_mm is None or self.b_mm is None):
-            raise ValueError("a block needs a_mm and b_mm (its sides in the plane of rotation)")
+        LoadPart(**self.model_dump())  # camcore's rules and sentences (a ValueError: 422)
         return self
 
 
