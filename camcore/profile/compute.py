@@ -18,6 +18,7 @@ from ..curves.base import FloatArray
 from ..errors import InvalidParameterError
 from .cam import CamSpec, kinematics, rotate
 from .checks import ProfileChecks, profile_checks
+from .followers import Kinematics
 
 
 @dataclass(frozen=True)
@@ -64,6 +65,15 @@ class ProfileResult:
         return out
 
 
+def _in_cam_frame(spec: CamSpec, theta: FloatArray
+                  ) -> tuple[Kinematics, tuple[FloatArray, FloatArray], tuple[FloatArray, FloatArray]]:
+    """The kinematics at cam angles θ [rad], and the surface and pitch points turned back by
+    the cam angle into the cam's own frame (kinematic inversion)."""
+    k = kinematics(spec, theta)
+    back = -spec.sigma * theta
+    return k, rotate(k.contact[0], k.contact[1], back), rotate(k.pitch[0], k.pitch[1], back)
+
+
 def contour(spec: CamSpec, cam_angle_deg: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Cam surface (x, y) and pitch curve (x, y) in the cam frame at these cam angles.
 
@@ -84,11 +94,7 @@ def contour(spec: CamSpec, cam_angle_deg: ArrayLike) -> tuple[FloatArray, FloatA
     Shinzato and Kunigami (1988): knife-edge contour x = l cos θ, y = l sin θ,
     l = y + D/2 (kinematic inversion into the cam's frame).
     """
-    th = np.radians(np.asarray(cam_angle_deg, dtype=np.float64))
-    k = kinematics(spec, th)
-    back = -spec.sigma * th
-    sx, sy = rotate(k.contact[0], k.contact[1], back)
-    px, py = rotate(k.pitch[0], k.pitch[1], back)
+    _, (sx, sy), (px, py) = _in_cam_frame(spec, np.radians(np.asarray(cam_angle_deg, dtype=np.float64)))
     return sx, sy, px, py
 
 
@@ -121,11 +127,7 @@ def compute_profile(spec: CamSpec, cam_angle_deg: ArrayLike) -> ProfileResult:
     ang = np.asarray(cam_angle_deg, dtype=np.float64).reshape(-1)
     if not np.all(np.isfinite(ang)):
         raise InvalidParameterError("cam_angle_deg must be finite numbers.")
-    th = np.radians(ang)
-    k = kinematics(spec, th)
-    back = -spec.sigma * th
-    sx, sy = rotate(k.contact[0], k.contact[1], back)
-    px, py = rotate(k.pitch[0], k.pitch[1], back)
+    k, (sx, sy), (px, py) = _in_cam_frame(spec, np.radians(ang))
     with np.errstate(divide="ignore"):
         rho_p = 1.0 / k.kappa_pitch
     checks = profile_checks(spec)
