@@ -30,6 +30,8 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import NDArray
 
+from .deadline import checkpoint
+
 FloatArray = NDArray[np.float64]
 
 #: iterations of the vectorised Illinois method; a 1/256-wide bracket closes in ~10, and
@@ -41,6 +43,9 @@ NEWTON_MAX_ITERATIONS = 100
 
 #: golden-section steps: 0.618^80 ≈ 2e-17 of the starting interval
 GOLDEN_ITERATIONS = 80
+
+#: width [rad] to which :func:`periodic_grid_max` refines an extreme of a function of the cam angle
+PERIODIC_WIDTH = 1e-9
 
 
 def illinois_roots(f: Callable[[FloatArray, NDArray[np.intp]], FloatArray], lo: FloatArray, hi: FloatArray,
@@ -72,6 +77,7 @@ def illinois_roots(f: Callable[[FloatArray, NDArray[np.intp]], FloatArray], lo: 
     active = np.arange(lo.size)
     kept = np.zeros(lo.size, dtype=np.int8)  # +1: lo moved last time, −1: hi moved last time
     for _ in range(ILLINOIS_MAX_ITERATIONS):
+        checkpoint()
         a, b = lo[active], hi[active]
         tol = 2 * np.spacing(np.maximum(np.abs(a), np.abs(b)))
         open_ = b - a > 2 * tol
@@ -131,6 +137,7 @@ def bracketed_newton(value_and_slope: Callable[[FloatArray], tuple[FloatArray, F
     x = start.copy()
     active = np.ones(goal.shape, dtype=bool)
     for _ in range(NEWTON_MAX_ITERATIONS):
+        checkpoint()
         if not active.any():
             break
         ia = np.nonzero(active)[0]
@@ -195,6 +202,7 @@ def smallest_feasible(margin: Callable[[float], float], lo: float, start: float,
     """
     hi = start
     for _ in range(60):
+        checkpoint()
         f_hi = margin(hi)
         if f_hi >= 0:
             break
@@ -205,6 +213,7 @@ def smallest_feasible(margin: Callable[[float], float], lo: float, start: float,
     f_a, f_b = margin(a) if a > 0 else -math.inf, f_hi
     side = 0
     for _ in range(ILLINOIS_MAX_ITERATIONS):
+        checkpoint()
         if b - a <= rel_tol * max(1.0, b) or f_b == 0:  # f_b = 0: the margin is met exactly at b
             break
         if math.isfinite(f_a) and f_b > f_a:
@@ -227,43 +236,52 @@ def smallest_feasible(margin: Callable[[float], float], lo: float, start: float,
     return b
 
 
-def golden_max(fun: Callable[[FloatArray], FloatArray], a: float, b: float,
-               iterations: int = GOLDEN_ITERATIONS) -> tuple[float, float]:
-    """Maximum of a unimodal scalar function on [a, b] by golden-section search.
+def golden_max(fun: Callable[[FloatArray], FloatArray], a: float | FloatArray, b: float | FloatArray,
+               iterations: int = GOLDEN_ITERATIONS, width: float = 1e-13) -> tuple[FloatArray, FloatArray]:
+    """Maxima of unimodal functions on intervals [a, b] by golden-section search, all
+    intervals refined together (one call of ``fun`` per step for all of them).
 
     Parameters
     ----------
     fun : callable
-        Vectorised function; called with one point at a time.
-    a, b : float
-        The interval.
+        Vectorised function, evaluated elementwise (lane i only ever sees points of
+        interval i, so each lane is the scalar search it replaces).
+    a, b : float or ndarray
+        The intervals' ends [-].
     iterations : int
-        At most this many steps; it stops when the interval is below 1e-13.
+        At most this many steps [-].
+    width : float
+        A lane stops shrinking once its interval is narrower than this [-].
 
     Returns
     -------
-    (float, float)
-        The best point and the value there.
+    (ndarray, ndarray)
+        The best point of each interval and the value there [-].
 
     References
     ----------
     Kiefer (1953), golden-section search.
     """
+    checkpoint()
     g = (math.sqrt(5.0) - 1.0) / 2.0
-    x1, x2 = b - g * (b - a), a + g * (b - a)
-    f1, f2 = float(fun(np.array([x1]))[0]), float(fun(np.array([x2]))[0])
+    lo = np.atleast_1d(np.asarray(a, dtype=np.float64)).copy()
+    hi = np.atleast_1d(np.asarray(b, dtype=np.float64)).copy()
+    x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
+    f1, f2 = fun(x1), fun(x2)
     for _ in range(iterations):
-        if b - a < 1e-13:
+        active = hi - lo >= width
+        if not active.any():
             break
-        if f1 < f2:
-            a, x1, f1 = x1, x2, f2
-            x2 = a + g * (b - a)
-            f2 = float(fun(np.array([x2]))[0])
-        else:
-            b, x2, f2 = x2, x1, f1
-            x1 = b - g * (b - a)
-            f1 = float(fun(np.array([x1]))[0])
-    return (x1, f1) if f1 >= f2 else (x2, f2)
+        right = active & (f1 < f2)  # the maximum lies in [x1, hi]: drop [lo, x1)
+        left = active & ~right
+        lo, hi = np.where(right, x1, lo), np.where(left, x2, hi)
+        x1, f1, x2, f2 = np.where(right, x2, x1), np.where(right, f2, f1), np.where(left, x1, x2), np.where(left, f1, f2)
+        new = np.where(right, lo + g * (hi - lo), hi - g * (hi - lo))
+        f_new = fun(new)
+        x2, f2 = np.where(right, new, x2), np.where(right, f_new, f2)
+        x1, f1 = np.where(left, new, x1), np.where(left, f_new, f1)
+    better_first = f1 >= f2
+    return np.where(better_first, x1, x2), np.where(better_first, f1, f2)
 
 
 def periodic_grid_max(fun: Callable[[FloatArray], FloatArray], grid: FloatArray, breaks: FloatArray,
@@ -294,8 +312,10 @@ def periodic_grid_max(fun: Callable[[FloatArray], FloatArray], grid: FloatArray,
     best_t, best_v = float(grid[i]), float(vals[i])
     lo = float(grid[i - 1]) if i > 0 else float(grid[-1]) - period
     hi = float(grid[i + 1]) if i + 1 < len(grid) else float(grid[0]) + period
-    for a, b in ((lo, best_t), (best_t, hi)):
-        t, v = golden_max(fun, a, b)
-        if v > best_v:
-            best_t, best_v = t, v
+    # both neighbouring intervals at once; an angle to 1e-9 rad puts the value within
+    # ½|f''|·1e-18 of the maximum, below the rounding of f itself
+    t, v = golden_max(fun, np.array([lo, best_t]), np.array([best_t, hi]), width=PERIODIC_WIDTH)
+    for ti, vi in zip(t.tolist(), v.tolist()):
+        if vi > best_v:
+            best_t, best_v = ti, vi
     return float(np.mod(best_t, period)), best_v

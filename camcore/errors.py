@@ -65,7 +65,7 @@ class GeometryError(InvalidParameterError):
 class LimitExceededError(CamError):
     """The requested work is larger than a configured limit."""
 
-    def __init__(self, what: str, requested: int, limit: int, field: tuple[str | int, ...] = ()):
+    def __init__(self, what: str, requested: float, limit: float, field: tuple[str | int, ...] = ()):
         self.what = what
         self.requested = requested
         self.limit = limit
@@ -73,5 +73,20 @@ class LimitExceededError(CamError):
         super().__init__(f"{what} is {shown}, over the limit of {limit}.", field=field)
 
 
+class WorkLimitError(LimitExceededError):
+    """The estimated work of a request is over the work budget; the message says what
+    drives it (``field``) so the caller knows what to reduce."""
+
+    def __init__(self, seconds: float, budget_s: float, largest: str, field: tuple[str | int, ...] = ()):
+        LimitExceededError.__init__(self, "estimated work [s]", round(seconds, 3), budget_s, field=field)
+        message = (f"the estimated work of this request is {seconds:.2g} s, over the budget of {budget_s:g} s; "
+                   f"most of it is {largest}: reduce that.")
+        self.args = (message,)
+
+
 class NonFiniteResultError(CamError):
     """A computation produced NaN or infinity for these inputs."""
+
+
+class WorkStoppedError(CamError):
+    """A computation was stopped before its end: past its deadline, or its caller left."""

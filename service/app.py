@@ -5,6 +5,7 @@ from __future__ import annotations
 from fastapi import FastAPI
 
 import camcore
+from service.admission import InFlightLimit, WorkGate
 from service.curves import routes as curves
 from service.curves.service import CurveService
 from service.errors import install_error_handlers
@@ -30,6 +31,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app = FastAPI(title="camcore", version=camcore.__version__, description=DESCRIPTION,
                   docs_url=None, redoc_url=None)  # served offline by install_offline_docs
     app.state.settings = settings
+    app.state.work_gate = WorkGate(settings)
     app.state.curve_service = CurveService(settings)
     app.state.indexer_service = IndexerService(app.state.curve_service)
     app.state.profile_service = ProfileService(app.state.curve_service)
@@ -41,5 +43,6 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.include_router(plots.router)
     install_offline_docs(app)  # before security: it publishes the asset paths left open
     app.add_middleware(BodySizeLimit, max_body_bytes=settings.max_body_bytes)
+    app.add_middleware(InFlightLimit, max_in_flight=settings.max_in_flight)  # before any body is read
     install_security(app, settings)  # last: outermost (CORS, then the key, then the body limit)
     return app

@@ -1,25 +1,65 @@
-"""A bounded, explicitly keyed LRU cache with hit and miss counters."""
+"""A bounded, explicitly keyed LRU cache with hit and miss counters, and the measure of
+what a cached object really holds."""
 
 from __future__ import annotations
 
+import sys
 import threading
 from collections import OrderedDict
 from collections.abc import Callable, Hashable
-from typing import Generic, TypeVar
+from typing import Any, Generic, TypeVar
+
+import numpy as np
 
 V = TypeVar("V")
+
+
+def held_bytes(value: Any) -> int:
+    """Bytes an object holds: numpy arrays' buffers and every Python object reachable
+    through attributes, containers and cached properties, each counted once."""
+    seen: set[int] = set()
+    total = 0
+    stack = [value]
+    while stack:
+        item = stack.pop()
+        if id(item) in seen or isinstance(item, type):
+            continue
+        seen.add(id(item))
+        if isinstance(item, np.ndarray):
+            total += item.nbytes + sys.getsizeof(item) if item.base is None else sys.getsizeof(item)
+            if item.base is not None:
+                stack.append(item.base)
+            continue
+        total += sys.getsizeof(item)
+        if isinstance(item, dict):
+            stack.extend(item.keys())
+            stack.extend(item.values())
+        elif isinstance(item, (list, tuple, set, frozenset)):
+            stack.extend(item)
+        elif not isinstance(item, (str, bytes, int, float, complex, bool)) and item is not None:
+            attributes = getattr(item, "__dict__", None)
+            if attributes is not None:
+                stack.append(attributes)
+            for name in getattr(type(item), "__slots__", ()):
+                if hasattr(item, name):
+                    stack.append(getattr(item, name))
+    return total
 
 
 class LRUCache(Generic[V]):
     """Least-recently-used cache holding at most ``maxsize`` entries (0 disables it).
 
-    With ``max_bytes``, values are ``bytes`` and the cache also keeps their total length
-    under that bound (a value longer than the bound is not cached).
+    With ``max_bytes``, the cache also keeps the total size of its values under that bound
+    (a value larger than the bound is not cached); ``size_of`` measures a value (default
+    ``len``, for bytes), and :meth:`remeasure` measures an entry again after it grew (a
+    curve that built its inverse tables).
     """
 
-    def __init__(self, maxsize: int, max_bytes: int | None = None):
+    def __init__(self, maxsize: int, max_bytes: int | None = None, size_of: Callable[[V], int] = len):  # type: ignore[assignment]
         self.maxsize = maxsize
         self.max_bytes = max_bytes
+        self.size_of = size_of
+        self._sizes: dict[Hashable, int] = {}
         self.bytes = 0
         self.hits = 0
         self.misses = 0
@@ -52,17 +92,36 @@ class LRUCache(Generic[V]):
                 return self._data[key]
             self.misses += 1
         value = create()  # outside the lock: building may take a while, and may raise
-        size = len(value) if self.max_bytes is not None else 0  # type: ignore[arg-type]
+        size = self.size_of(value) if self.max_bytes is not None else 0
         if self.maxsize > 0 and (self.max_bytes is None or size <= self.max_bytes):
             with self._lock:
-                if key not in self._data:
-                    self.bytes += size
+                self.bytes += size - self._sizes.get(key, 0)
+                self._sizes[key] = size
                 self._data[key] = value
                 self._data.move_to_end(key)
-                while len(self._data) > self.maxsize or (self.max_bytes is not None and self.bytes > self.max_bytes):
-                    _, old = self._data.popitem(last=False)
-                    self.bytes -= len(old) if self.max_bytes is not None else 0  # type: ignore[arg-type]
+                self._evict()
         return value
+
+    def remeasure(self, key: Hashable) -> None:
+        """Measure an entry again (it grew since it was cached), evicting others as needed."""
+        if self.max_bytes is None:
+            return
+        value = self.peek(key)
+        if value is None:
+            return
+        size = self.size_of(value)
+        with self._lock:
+            if key in self._data:
+                self.bytes += size - self._sizes.get(key, 0)
+                self._sizes[key] = size
+                self._evict()
+
+    def _evict(self) -> None:
+        """Drop least recently used entries until both bounds hold (call under the lock)."""
+        while self._data and (len(self._data) > self.maxsize
+                              or (self.max_bytes is not None and self.bytes > self.max_bytes)):
+            old_key, _ = self._data.popitem(last=False)
+            self.bytes -= self._sizes.pop(old_key, 0)
 
     def stats(self) -> dict[str, int]:
         with self._lock:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from fastapi import Request
 
+from service.admission import WorkGate
 from service.curves.service import CurveService
 from service.indexers.service import IndexerService
 from service.profiles.service import ProfileService
@@ -22,3 +23,8 @@ async def indexer_service(request: Request) -> IndexerService:
 async def profile_service(request: Request) -> ProfileService:
     service: ProfileService = request.app.state.profile_service
     return service
+
+
+async def work_gate(request: Request) -> WorkGate:
+    gate: WorkGate = request.app.state.work_gate
+    return gate

@@ -32,6 +32,7 @@ from camcore.errors import (
     NonMonotoneError,
     StrokeRangeError,
     UnknownCurveError,
+    WorkStoppedError,
 )
 from service.responses import JSONBody
 
@@ -41,6 +42,7 @@ logger = logging.getLogger("camcore.service")
 DEFAULT_STATUS_CODES: dict[type[Exception], int] = {
     UnknownCurveError: 404,
     LimitExceededError: 413,
+    WorkStoppedError: 503,
     StrokeRangeError: 422,
     NonMonotoneError: 422,
     NonFiniteResultError: 422,
@@ -48,7 +50,16 @@ DEFAULT_STATUS_CODES: dict[type[Exception], int] = {
     CamError: 422,
 }
 
+#: seconds a client is told to wait (``Retry-After``) after a 503
+RETRY_AFTER_S = 1
 
+
+class ServiceBusyError(Exception):
+    """This worker has no room for the request now (503); the client should retry later."""
+
+    def __init__(self, detail: str, retry_after_s: int = RETRY_AFTER_S):
+        super().__init__(detail)
+        self.retry_after_s = retry_after_s
 
 
 #: attribute holding a CamError's location in the request (below "body"/"query"), once known
@@ -134,7 +145,13 @@ async def cam_error_handler(request: Request, exc: Exception) -> JSONBody:
         requested = exc.requested if abs(exc.requested) < 2**63 else None
         extra["limit"] = {"name": exc.what, "requested": requested, "limit": exc.limit}
     errors = [{"loc": error_loc(request, exc), "msg": str(exc)}]
-    return JSONBody(error_body(str(exc), errors, **extra), status_code=status)
+    headers = {"Retry-After": str(RETRY_AFTER_S)} if status == 503 else None
+    return JSONBody(error_body(str(exc), errors, **extra), status_code=status, headers=headers)
+
+
+async def busy_error_handler(request: Request, exc: Exception) -> JSONBody:
+    assert isinstance(exc, ServiceBusyError)
+    return JSONBody(error_body(str(exc)), status_code=503, headers={"Retry-After": str(exc.retry_after_s)})
 
 
 async def validation_error_handler(request: Request, exc: Exception) -> JSONBody:
@@ -174,6 +191,7 @@ async def unexpected_error_handler(request: Request, exc: Exception) -> JSONBody
 
 def install_error_handlers(app: FastAPI) -> None:
     app.add_exception_handler(CamError, cam_error_handler)
+    app.add_exception_handler(ServiceBusyError, busy_error_handler)
     app.add_exception_handler(RequestValidationError, validation_error_handler)
     app.add_exception_handler(StarletteHTTPException, http_error_handler)
     app.add_exception_handler(Exception, unexpected_error_handler)

@@ -28,8 +28,17 @@ class Settings(BaseSettings):
     max_bezier_degree: int = Field(20, ge=1)  # degree 20 at 2e5 samples answers in ~0.5 s here
     max_curve_points: int = Field(10_000, ge=2)
 
+    # work (camcore.work estimates it before it runs; service.admission admits it)
+    max_work_s: float = Field(1.0, gt=0, le=3600, description="budget: a request estimated to need more is refused (413)")
+    work_deadline_s: float = Field(2.0, gt=0, le=3600, description="a computation still running after this is stopped (503)")
+    work_slots: int = Field(2, ge=1, le=64, description="computations running at once per worker (threads)")
+    max_queued_work_s: float = Field(2.0, gt=0, le=3600,
+                                     description="estimated seconds admitted and not finished per worker; more: 503")
+    max_in_flight: int = Field(64, ge=1, le=100_000, description="requests in progress per worker; more: 503")
+
     # caches: bounded by entry count; tables are cached only up to a row count
     curve_cache_size: int = Field(512, ge=0)
+    curve_cache_max_bytes: int = Field(64 * 1024 * 1024, ge=0)
     table_cache_size: int = Field(256, ge=0)
     table_cache_max_rows: int = Field(10_001, ge=0)
     table_cache_max_bytes: int = Field(32 * 1024 * 1024, ge=0)

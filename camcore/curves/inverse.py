@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ..deadline import checkpoint
 from .base import WORK_ROWS, FloatArray, PiecewiseCurve
 from .extrema import Characteristics
 from .stroke import clamp_to_stroke, robust_inverse
@@ -394,6 +395,7 @@ def _iterate(curve: PiecewiseCurve, grid: InverseGrid, x: _Targets, result: Floa
     tiny = 4 * float(np.spacing(max(abs(curve.t_start), abs(curve.t_end), 1.0)))
     work = np.empty((WORK_ROWS, x.size))
     for _ in range(iterations):
+        checkpoint()
         if x.size == 0:
             break
         pe = x.piece

@@ -12,15 +12,21 @@ import numpy as np
 
 import camcore
 from camcore.curves import CURVE_KINDS, Curve, build_curve
+from camcore.curves.kinds import LawCost
 from camcore.errors import LimitExceededError, NonMonotoneError
 from camcore.results import as_dict
-from service.cache import LRUCache
+from camcore.work import WorkEstimate, curve_work, law_cost, per_item_work
+from service.cache import LRUCache, held_bytes
 from service.curves.specs import (
     CurveSpec,
 )
 from service.errors import within
-from service.responses import encode_table, encode_value
+from service.responses import encode_cost, encode_table, encode_value
 from service.settings import Settings
+
+#: columns of a curve table (t, s, v, a, j, q) and of an inverse answer (s, t, v, a)
+TABLE_COLUMNS = 6
+INVERSE_COLUMNS = 4
 
 #: rows of a table worth a thread-pool hop: below this, on a curve already built, the work
 #: (0.07 ms for 101 rows of MS, ~1 ms for 1001 rows of a degree-20 Bezier) costs less than
@@ -33,7 +39,8 @@ class CurveService:
 
     def __init__(self, settings: Settings):
         self.settings = settings
-        self.curves: LRUCache[Curve] = LRUCache(settings.curve_cache_size)
+        self.curves: LRUCache[Curve] = LRUCache(settings.curve_cache_size, settings.curve_cache_max_bytes,
+                                                size_of=held_bytes)
         self.tables: LRUCache[bytes] = LRUCache(settings.table_cache_size, settings.table_cache_max_bytes)
 
     # ------------------------------------------------------------------ limits
@@ -42,6 +49,38 @@ class CurveService:
         request field that asked for it (e.g. ("samples",))."""
         if requested > limit:
             raise LimitExceededError(what, requested, limit, field=field)
+
+    # ------------------------------------------------------------------ work estimates
+    def law(self, spec: CurveSpec, at: tuple[str | int, ...] = ("curve",)) -> LawCost:
+        """What the spec's curve costs (camcore.work), before it is built; a spec over its
+        kind's size limit is refused first (413)."""
+        with within(*at):
+            self._check_spec_size(spec)
+        return law_cost(spec.type, spec.parameters())
+
+    def curve_work(self, spec: CurveSpec, at: tuple[str | int, ...] = ("curve",)) -> WorkEstimate:
+        return curve_work(self.law(spec, at), at)
+
+    def table_work(self, spec: CurveSpec, rows: int, csv: bool, field: tuple[str | int, ...]) -> WorkEstimate:
+        """A table of ``rows`` rows (``field``: samples or t): the curve, evaluated and
+        encoded at each row; over the row limit: 413 first."""
+        law = self.law(spec)
+        what = "table samples" if field == ("samples",) else "number of times t"
+        self.check_limit(what, rows, self.settings.max_table_samples, field)
+        return curve_work(law, ("curve",)) + per_item_work(
+            rows, law.sample_s + encode_cost(TABLE_COLUMNS, csv), field, f"{rows} table rows")
+
+    def inverse_work(self, spec: CurveSpec, values: int, method: str, table_step: float, csv: bool,
+                     field: tuple[str | int, ...] = ("s",)) -> WorkEstimate:
+        """An inverse of ``values`` S values (the table method also samples its table)."""
+        self.check_limit("number of s values", values, self.settings.max_inverse_points, field)
+        law = self.law(spec)
+        work = curve_work(law, ("curve",)) + per_item_work(
+            values, 2 * law.sample_s + encode_cost(INVERSE_COLUMNS, csv), field, f"{values} inverse lookups")
+        if method == "table":
+            rows = int(1.0 / table_step) + 1
+            work += per_item_work(rows, law.sample_s, ("table_step",), f"an inverse table of {rows} rows")
+        return work
 
     # ------------------------------------------------------------------ curves
     def curve(self, spec: CurveSpec, at: tuple[str | int, ...] = ("curve",)) -> Curve:
@@ -66,6 +105,10 @@ class CurveService:
         return build_curve(spec.type, spec.parameters(), spec.direction, self._limits())
 
     # A route answers quick work on the event loop and sends the rest to a worker thread.
+    def is_built(self, spec: CurveSpec) -> bool:
+        """Whether the spec's curve is in the cache (no building needed)."""
+        return self.curves.peek(spec.cache_key()) is not None
+
     def is_quick_table(self, spec: CurveSpec, rows: int) -> bool:
         """Whether a table of ``rows`` is quick work: the curve is built and rows are few."""
         return rows <= QUICK_TABLE_ROWS and self.curves.peek(spec.cache_key()) is not None
@@ -92,10 +135,6 @@ class CurveService:
             self.check_limit("table samples", samples, self.settings.max_table_samples, ("samples",))
             times = curve.sample_times(samples)
         return curve.evaluate(times).columns()
-
-    def table_at_times(self, spec: CurveSpec, t: list[float], csv: bool) -> bytes:
-        """The encoded table (JSON or CSV) at the given times (never cached)."""
-        return encode_table(self.table_columns(spec, None, t), csv)
 
     def cached_table(self, spec: CurveSpec, samples: int, csv: bool) -> bytes:
         """A sampled table's encoded body (JSON or CSV), cached when it is small."""
@@ -130,17 +169,13 @@ class CurveService:
             with within("curve", only=NonMonotoneError):  # the curve cannot be inverted
                 vals = curve.inverse_table(s_arr, table_step, table_decimals)
             return {"s": s_arr, "t": vals.t, "v": vals.v, "a": vals.a}
+        grows = not curve.inverse_ready
         with within("curve", only=NonMonotoneError):
             t = curve.inverse(s_arr)
+        if grows:  # the curve now holds its inverse's start tables: count them in the cache's bytes
+            self.curves.remeasure(spec.cache_key())
         _s, v, a = curve.derivatives(t, 2)
         return {"s": s_arr, "t": t, "v": v, "a": a}
-
-    def inverse_table(
-        self, spec: CurveSpec, s: list[float], method: str, table_step: float, table_decimals: int | None,
-        csv: bool,
-    ) -> bytes:
-        """The encoded inverse answer (JSON or CSV)."""
-        return encode_table(self.inverse_columns(spec, s, method, table_step, table_decimals), csv)
 
     def value(self, spec: CurveSpec, quantity: str, t: float | None, s: float | None) -> bytes:
         """One number as text: ``quantity`` (s, v, a, j, q) at the time t, as in a table;

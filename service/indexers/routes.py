@@ -7,8 +7,9 @@ from typing import Annotated
 from fastapi import APIRouter, Body, Depends, Query, Request
 from starlette.responses import Response
 
+from service.admission import WorkGate
 from service.curves.routes import CSV, CSV_FILE, ERRORS
-from service.deps import indexer_service
+from service.deps import indexer_service, work_gate
 from service.indexers.service import IndexerService
 from service.indexers.specs import (
     MOTION_EXAMPLES,
@@ -22,60 +23,68 @@ from service.indexers.specs import (
     SizingAnswer,
     SizingRequest,
 )
-from service.responses import JSONBody, check_finite, table_response, wants_csv
+from service.responses import JSONBody, check_finite, json_response, table_response, wants_csv
 from service.routing import OrjsonRoute
 
 router = APIRouter(prefix="/v1/indexers", tags=["indexers"], route_class=OrjsonRoute)
 Service = Annotated[IndexerService, Depends(indexer_service)]
+Gate = Annotated[WorkGate, Depends(work_gate)]
 
 
 @router.post("/motion", operation_id="getIndexerMotion", response_model=MotionAnswer, responses={**ERRORS, 200: CSV})
-def indexer_motion(body: Annotated[MotionRequest, Body(openapi_examples=MOTION_EXAMPLES)], request: Request,
-                   service: Service) -> Response:
+async def indexer_motion(body: Annotated[MotionRequest, Body(openapi_examples=MOTION_EXAMPLES)], request: Request,
+                         service: Service, gate: Gate) -> Response:
     """Summary (times, exact peaks) and the output motion over one index (CSV: the table)."""
-    summary, table = service.motion(body.indexer, body.samples)
-    if wants_csv(request):
-        return table_response(table, True, filename="motion.csv")
-    check_finite(table)
-    return JSONBody({"summary": summary, "table": table})
+    return await _motion(request, gate, service, body, wants_csv(request))
 
 
 @router.post("/motion.csv", operation_id="getIndexerMotionCsv", response_class=Response,
              responses={**ERRORS, 200: CSV_FILE})
-def indexer_motion_csv(body: Annotated[MotionRequest, Body(openapi_examples=MOTION_EXAMPLES)],
-                       service: Service) -> Response:
+async def indexer_motion_csv(body: Annotated[MotionRequest, Body(openapi_examples=MOTION_EXAMPLES)],
+                             request: Request, service: Service, gate: Gate) -> Response:
     """The motion table of ``getIndexerMotion`` as CSV."""
-    _summary, table = service.motion(body.indexer, body.samples)
-    return table_response(table, True, filename="motion.csv")
+    return await _motion(request, gate, service, body, True)
+
+
+async def _motion(request: Request, gate: WorkGate, service: IndexerService, body: MotionRequest,
+                  csv: bool) -> Response:
+    work = service.motion_work(body.indexer, body.samples, csv)
+    summary, table = await gate.run(request, work, service.motion, body.indexer, body.samples)
+    if csv:
+        return table_response(table, True, filename="motion.csv")
+    check_finite(table)
+    return json_response({"summary": summary, "table": table})
 
 
 @router.post("/position", operation_id="getIndexerPosition", response_model=PositionAnswer,
              responses={**ERRORS, 200: CSV})
-def indexer_position(body: Annotated[PositionRequest, Body(openapi_examples=POSITION_EXAMPLES)], request: Request,
-                     service: Service) -> Response:
+async def indexer_position(body: Annotated[PositionRequest, Body(openapi_examples=POSITION_EXAMPLES)],
+                           request: Request, service: Service, gate: Gate) -> Response:
     """For each output angle: input angle, time, ω and α (exact, or the catalog's table method)."""
-    return _position(body, service, wants_csv(request))
+    return await _position(request, gate, service, body, wants_csv(request))
 
 
 @router.post("/position.csv", operation_id="getIndexerPositionCsv", response_class=Response,
              responses={**ERRORS, 200: CSV_FILE})
-def indexer_position_csv(body: Annotated[PositionRequest, Body(openapi_examples=POSITION_EXAMPLES)],
-                         service: Service) -> Response:
+async def indexer_position_csv(body: Annotated[PositionRequest, Body(openapi_examples=POSITION_EXAMPLES)],
+                               request: Request, service: Service, gate: Gate) -> Response:
     """The answer of ``getIndexerPosition`` as CSV."""
-    return _position(body, service, True)
+    return await _position(request, gate, service, body, True)
 
 
-def _position(body: PositionRequest, service: IndexerService, csv: bool) -> Response:
-    columns = service.position(body.indexer, body.output_angle_deg, body.method, body.table_step,
-                               body.table_decimals)
+async def _position(request: Request, gate: WorkGate, service: IndexerService, body: PositionRequest,
+                    csv: bool) -> Response:
+    work = service.position_work(body.indexer, len(body.output_angle_deg), body.method, body.table_step, csv)
+    columns = await gate.run(request, work, service.position, body.indexer, body.output_angle_deg, body.method,
+                             body.table_step, body.table_decimals)
     return table_response(columns, csv, filename="position.csv")
 
 
 @router.post("/sizing", operation_id="sizeIndexer", response_model=SizingAnswer, responses=ERRORS)
-def indexer_sizing(body: Annotated[SizingRequest, Body(openapi_examples=SIZING_EXAMPLES)],
-                   service: Service) -> Response:
+async def indexer_sizing(body: Annotated[SizingRequest, Body(openapi_examples=SIZING_EXAMPLES)],
+                         request: Request, service: Service, gate: Gate) -> Response:
     """Inertia, friction and work torque, output and input torque, input power."""
-    result = service.sizing(body.indexer, body.load)
+    result = await gate.run(request, service.sizing_work(body.indexer), service.sizing, body.indexer, body.load)
     check_finite({k: v for k, v in result.items() if isinstance(v, float)})
     return JSONBody(result)
 

@@ -10,13 +10,13 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-import numpy as np
 from fastapi import APIRouter, Body, Depends, Query, Request
 from starlette.responses import Response
 
 from camcore.export import FORMATS, ContourFormat
+from service.admission import WorkGate
 from service.curves.routes import CSV_FILE, ERRORS
-from service.deps import profile_service
+from service.deps import profile_service, work_gate
 from service.profiles.service import UNBOUNDED_COLUMNS, ProfileService
 from service.profiles.specs import (
     BASE_CIRCLE_EXAMPLES,
@@ -26,11 +26,12 @@ from service.profiles.specs import (
     ProfileAnswer,
     ProfileRequest,
 )
-from service.responses import JSONBody, check_finite, table_response, wants_csv
+from service.responses import JSONBody, check_finite, json_response, table_response, wants_csv
 from service.routing import OrjsonRoute
 
 router = APIRouter(prefix="/v1/profiles", tags=["profiles"], route_class=OrjsonRoute)
 Service = Annotated[ProfileService, Depends(profile_service)]
+Gate = Annotated[WorkGate, Depends(work_gate)]
 
 
 def _content(fmt: ContourFormat) -> dict[str, Any]:
@@ -52,35 +53,44 @@ ProfileBody = Annotated[ProfileRequest, Body(openapi_examples=PROFILE_EXAMPLES)]
 
 
 @router.post("", operation_id="computeProfile", response_model=ProfileAnswer, responses={**ERRORS, 200: EXPORTS})
-def compute_profile(
+async def compute_profile(
     body: Annotated[ProfileRequest, Body(openapi_examples=PROFILE_EXAMPLES)],
     request: Request,
     service: Service,
+    gate: Gate,
     format: Annotated[ProfileFormat | None, Query(description=FORMAT_HELP)] = None,
 ) -> Response:
     """Cam surface, pitch curve, lift, pressure angle, radius of curvature, and the checks."""
-    result = service.profile(body.profile, body.samples, body.cam_angle_deg)
     if format in FORMATS:
-        download = FORMATS[format]
-        return Response(service.export(result, format, body.profile.base_radius_mm), media_type=download.media_type,
-                        headers={"Content-Disposition": f'attachment; filename="{download.file_name}"'})
-    columns = service.columns(result)
-    bounded = {k: v for k, v in columns.items() if k not in UNBOUNDED_COLUMNS}
-    check_finite(bounded)
-    if format == "csv" or (format is None and wants_csv(request)):
-        return table_response({k: np.asarray(v) for k, v in columns.items()}, True, filename="profile.csv",
-                              allow_null=UNBOUNDED_COLUMNS)
-    return JSONBody({**columns, "checks": service.checks(result)})
+        return await _contour(request, gate, service, body, FORMATS[format])
+    csv = format == "csv" or (format is None and wants_csv(request))
+    return await _table(request, gate, service, body, csv)
 
 
 @router.post("/table.csv", operation_id="computeProfileCsv", response_class=Response,
              responses={**ERRORS, 200: CSV_FILE})
-def compute_profile_csv(body: ProfileBody, service: Service) -> Response:
+async def compute_profile_csv(body: ProfileBody, request: Request, service: Service, gate: Gate) -> Response:
     """The columns of ``computeProfile`` as CSV (null radius = an empty cell: a straight stretch)."""
-    columns = service.columns(service.profile(body.profile, body.samples, body.cam_angle_deg))
+    return await _table(request, gate, service, body, True)
+
+
+async def _table(request: Request, gate: WorkGate, service: ProfileService, body: ProfileRequest,
+                 csv: bool) -> Response:
+    work = service.profile_work(body.profile, body.samples, body.cam_angle_deg, "csv" if csv else "json")
+    columns, checks = await gate.run(request, work, service.table, body.profile, body.samples, body.cam_angle_deg)
+    if csv:
+        return table_response(columns, True, filename="profile.csv", allow_null=UNBOUNDED_COLUMNS)
     check_finite({k: v for k, v in columns.items() if k not in UNBOUNDED_COLUMNS})
-    return table_response({k: np.asarray(v) for k, v in columns.items()}, True, filename="profile.csv",
-                          allow_null=UNBOUNDED_COLUMNS)
+    return json_response({**columns, "checks": checks})
+
+
+async def _contour(request: Request, gate: WorkGate, service: ProfileService, body: ProfileRequest,
+                   fmt: ContourFormat) -> Response:
+    work = service.profile_work(body.profile, body.samples, body.cam_angle_deg, fmt.name)
+    payload = await gate.run(request, work, service.contour_file, body.profile, body.samples, body.cam_angle_deg,
+                             fmt.name)
+    return Response(payload, media_type=fmt.media_type,
+                    headers={"Content-Disposition": f'attachment; filename="{fmt.file_name}"'})
 
 
 def _contour_route(fmt: ContourFormat) -> None:
@@ -88,10 +98,8 @@ def _contour_route(fmt: ContourFormat) -> None:
     extension = fmt.file_name.rsplit(".", 1)[-1]
     camel = "".join(part.capitalize() for part in fmt.name.split("-"))
 
-    def export_contour(body: ProfileBody, service: Service) -> Response:
-        result = service.profile(body.profile, body.samples, body.cam_angle_deg)
-        return Response(service.export(result, fmt.name, body.profile.base_radius_mm), media_type=fmt.media_type,
-                        headers={"Content-Disposition": f'attachment; filename="{fmt.file_name}"'})
+    async def export_contour(body: ProfileBody, request: Request, service: Service, gate: Gate) -> Response:
+        return await _contour(request, gate, service, body, fmt)
 
     export_contour.__doc__ = f"The cam contour as {fmt.description} (``computeProfile`` with ``?format={fmt.name}``)."
     router.add_api_route(f"/contour.{extension}", export_contour, methods=["POST"],
@@ -105,8 +113,10 @@ for _fmt in FORMATS.values():
 
 
 @router.post("/base-circle", operation_id="sizeBaseCircle", response_model=BaseCircleAnswer, responses=ERRORS)
-def size_base_circle(body: Annotated[BaseCircleRequest, Body(openapi_examples=BASE_CIRCLE_EXAMPLES)],
-                     service: Service) -> Response:
+async def size_base_circle(body: Annotated[BaseCircleRequest, Body(openapi_examples=BASE_CIRCLE_EXAMPLES)],
+                           request: Request, service: Service, gate: Gate) -> Response:
     """The smallest base radius meeting a pressure-angle limit and/or a curvature limit."""
-    result = service.base_circle(body.profile, body.max_pressure_angle_deg, body.min_radius_of_curvature_mm)
+    work = service.base_circle_work(body.profile, body.max_pressure_angle_deg, body.min_radius_of_curvature_mm)
+    result = await gate.run(request, work, service.base_circle, body.profile, body.max_pressure_angle_deg,
+                            body.min_radius_of_curvature_mm)
     return JSONBody(result)

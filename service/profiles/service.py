@@ -8,10 +8,16 @@ import numpy as np
 
 import camcore
 from camcore import export
+from camcore.curves.kinds import LawCost
 from camcore.results import as_dict
+from camcore.work import WorkEstimate, WorkTerm, base_circle_work, curve_work, profile_work
 from service.curves.service import CurveService
 from service.errors import within
 from service.profiles.specs import ProfileSpec
+from service.responses import encode_cost
+
+#: columns of a profile table (cam angle, lift, contact and pitch points, angles, radii…)
+PROFILE_COLUMNS = 14
 
 #: columns where an infinite value is meaningful (a straight stretch of surface) and is
 #: answered as null (JSON has no infinity)
@@ -24,6 +30,61 @@ class ProfileService:
     def __init__(self, curves: CurveService):
         self.curves = curves
 
+    # ------------------------------------------------------------------ work estimates
+    def laws(self, spec: ProfileSpec) -> tuple[list[LawCost | None], WorkEstimate]:
+        """Each segment's law cost, and the work of building the distinct curves (a spec
+        repeated in several segments is built once: the curve cache)."""
+        if spec.segments is None:
+            assert spec.lift is not None
+            law = self.curves.law(spec.lift, at=("profile", "lift"))
+            return [law], curve_work(law, ("profile", "lift"))
+        laws: list[LawCost | None] = []
+        built = WorkEstimate()
+        seen = set()
+        for i, segment in enumerate(spec.segments):
+            if segment.curve is None:
+                laws.append(None)
+                continue
+            at = ("profile", "segments", i, "curve")
+            law = self.curves.law(segment.curve, at=at)
+            laws.append(law)
+            if segment.curve.cache_key() not in seen:
+                seen.add(segment.curve.cache_key())
+                built += curve_work(law, at)
+        return laws, built
+
+    def profile_work(self, spec: ProfileSpec, samples: int | None, cam_angle_deg: list[float] | None,
+                     answer: str) -> WorkEstimate:
+        """A profile and its answer (``answer``: json, csv or a contour format of camcore.export.FORMATS)."""
+        n, field = self._sample_count(samples, cam_angle_deg)
+        laws, work = self.laws(spec)
+        schedule = ("profile", "segments") if spec.segments is not None else ("profile", "lift")
+        work += profile_work(laws, n, schedule, field)
+        if answer in export.FORMATS:
+            seconds = export.FORMATS[answer].cost(n)
+            return work + WorkEstimate((WorkTerm(field, f"writing {n} points as {answer}", seconds),))
+        return work + WorkEstimate((WorkTerm(field, f"encoding {n} rows", encode_cost(n * PROFILE_COLUMNS,
+                                                                                         answer == "csv")),))
+
+    def base_circle_work(self, spec: ProfileSpec, max_pressure_angle_deg: float | None,
+                         min_radius_of_curvature_mm: float | None) -> WorkEstimate:
+        """Base-circle sizing: one solve per limit (a flat-faced follower always solves the
+        curvature, for convexity, and has no pressure angle)."""
+        flat = spec.follower.type == "flat-faced"
+        limits = int(max_pressure_angle_deg is not None and not flat) + int(min_radius_of_curvature_mm is not None
+                                                                            or flat)
+        laws, work = self.laws(spec)
+        schedule = ("profile", "segments") if spec.segments is not None else ("profile", "lift")
+        return work + base_circle_work(laws, limits, schedule)
+
+    def _sample_count(self, samples: int | None, cam_angle_deg: list[float] | None) -> tuple[int, tuple[str, ...]]:
+        """How many cam angles, and which request field gives them (413 over the limit)."""
+        n = len(cam_angle_deg) if cam_angle_deg is not None else int(samples or 361)
+        field = ("cam_angle_deg",) if cam_angle_deg is not None else ("samples",)
+        self.curves.check_limit("profile samples", n, self.curves.settings.max_table_samples, field)
+        return n, field
+
+    # ------------------------------------------------------------------ answers
     def cam(self, spec: ProfileSpec, base_radius_mm: float | None = None) -> camcore.profile.CamSpec:
         f = spec.follower
         follower = camcore.profile.Follower(type=f.type, motion=f.motion, offset_mm=f.offset_mm,
@@ -47,14 +108,23 @@ class ProfileService:
                                  rotation_ratio=spec.rotation_ratio)
 
     def profile(self, spec: ProfileSpec, samples: int | None, cam_angle_deg: list[float] | None) -> camcore.profile.ProfileResult:
-        n = len(cam_angle_deg) if cam_angle_deg is not None else int(samples or 361)
-        self.curves.check_limit("profile samples", n, self.curves.settings.max_table_samples,
-                                ("cam_angle_deg",) if cam_angle_deg is not None else ("samples",))
+        n, _field = self._sample_count(samples, cam_angle_deg)
         cam = self.cam(spec)
         with within("profile"):
             if cam_angle_deg is not None:
                 return camcore.profile.compute_profile(cam, np.asarray(cam_angle_deg, dtype=np.float64))
             return camcore.profile.sample_profile(cam, n)
+
+    def table(self, spec: ProfileSpec, samples: int | None, cam_angle_deg: list[float] | None
+              ) -> tuple[dict[str, Any], dict[str, Any]]:
+        """The profile's columns (radius columns: NaN where unbounded) and its checks."""
+        result = self.profile(spec, samples, cam_angle_deg)
+        return self.columns(result), self.checks(result)
+
+    def contour_file(self, spec: ProfileSpec, samples: int | None, cam_angle_deg: list[float] | None,
+                     fmt: str) -> bytes:
+        """The contour of the profile as a file in one of :data:`camcore.export.FORMATS`."""
+        return self.export(self.profile(spec, samples, cam_angle_deg), fmt, spec.base_radius_mm)
 
     @staticmethod
     def columns(result: camcore.profile.ProfileResult) -> dict[str, Any]:

@@ -75,7 +75,8 @@ def extra_format() -> Iterator[export.ContourFormat]:
     def write(c: export.Contour) -> bytes:
         return b"".join(f"{x!r};{y!r}\n".encode() for x, y in zip(c.x_mm.tolist(), c.y_mm.tolist()))
 
-    fmt = export.ContourFormat("semicolon", "text/x-points; charset=utf-8", "cam.pts", "x;y per line", write)
+    fmt = export.ContourFormat("semicolon", "text/x-points; charset=utf-8", "cam.pts", "x;y per line", write,
+                               lambda points: 1e-6 * points)
     export.FORMATS[fmt.name] = fmt
     try:
         importlib.reload(route_module)

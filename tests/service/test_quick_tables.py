@@ -10,7 +10,7 @@ import httpx
 import pytest
 
 from service.app import create_app
-from service.curves import routes as curves
+from service.admission import WorkGate
 from service.curves.service import QUICK_TABLE_ROWS
 from service.settings import Settings
 
@@ -22,15 +22,15 @@ BEZIER = {"type": "bezier", "control_points": [[0, 0], [30, 0], [60, 10], [90, 1
 
 @pytest.fixture
 def thread_calls(monkeypatch: pytest.MonkeyPatch) -> list[str]:
-    """The names of the functions the curve routes sent to the thread pool."""
+    """The names of the functions the curve routes sent through the work gate (to a thread)."""
     calls: list[str] = []
-    real = curves.run_in_threadpool
+    real = WorkGate.run
 
-    async def counting(func: Any, *args: Any) -> Any:
+    async def counting(self: WorkGate, request: Any, estimate: Any, func: Any, *args: Any) -> Any:
         calls.append(func.__name__)
-        return await real(func, *args)
+        return await real(self, request, estimate, func, *args)
 
-    monkeypatch.setattr(curves, "run_in_threadpool", counting)
+    monkeypatch.setattr(WorkGate, "run", counting)
     return calls
 
 
@@ -69,7 +69,7 @@ async def test_large_tables_still_go_to_a_thread(uncached_client: httpx.AsyncCli
     assert large.status_code == 200 and thread_calls == ["cached_table", "cached_table"]
     many_t = [i / QUICK_TABLE_ROWS for i in range(QUICK_TABLE_ROWS + 1)]
     at_times = await uncached_client.post("/v1/curves/table", json={"curve": MS, "t": many_t})
-    assert at_times.status_code == 200 and thread_calls[-1] == "table_at_times"
+    assert at_times.status_code == 200 and thread_calls[-1] == "table_columns"
     # the same rows answered on the loop and in a thread are the same numbers
     assert at_times.json()["s"][:5] == (await uncached_client.post(
         "/v1/curves/table", json={"curve": MS, "t": many_t[:5]})).json()["s"]
@@ -86,12 +86,12 @@ async def test_exact_inverse_is_quick_once_the_start_table_is_built(
 
     # INDEXMAN technical guide, worked example: S = 0.1833 on MS (T ≈ 0.304)
     first = await ask([0.1833])
-    assert first.status_code == 200 and thread_calls == ["inverse_table"]  # builds the start table
+    assert first.status_code == 200 and thread_calls == ["inverse_columns"]  # builds the start table
     again = await ask([0.1833])
-    assert again.content == first.content and thread_calls == ["inverse_table"]
+    assert again.content == first.content and thread_calls == ["inverse_columns"]
     assert abs(again.json()["t"][0] - 0.304) < 5e-4  # the guide prints T to 3 decimals
     await ask([0.1833], method="table")  # the catalog's method builds its table each time
-    assert thread_calls == ["inverse_table", "inverse_table"]
+    assert thread_calls == ["inverse_columns", "inverse_columns"]
     many = [i / (QUICK_TABLE_ROWS + 1) for i in range(QUICK_TABLE_ROWS + 1)]
     if how == "post":
         assert (await ask(many)).status_code == 200

@@ -1,0 +1,220 @@
+"""How much work a computation is, known before it runs: the cost model.
+
+Every estimate is in seconds on the reference machine (2 cores, x86-64, Python 3.11,
+numpy 2, one computation at a time), built from measured kernels times a safety factor
+for a busy machine: a curve's cost comes from its kind (:data:`camcore.curves.kinds.CURVE_KINDS`,
+``LawCost``), a contour file's from its format (:data:`camcore.export.FORMATS`), a
+profile's checks and base-circle sizing from the constants below. An estimate keeps its
+terms with the request field that drives each, so a caller that refuses the work can say
+what to reduce. ``bench/cost_model.py`` measures every estimate against the real run.
+
+References
+----------
+.. [1] M. Nygard, *Release It!*, 2nd ed. (2018), ch. 5: bounded work, fail fast, load shedding.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from .curves.kinds import CURVE_KINDS, LawCost
+
+Field = tuple[str | int, ...]
+
+#: profile checks (largest pressure angle, smallest radius of curvature): measured 12.5 ms
+#: for 4 segments, 26 ms for 36, 0.26 s for 360 (a per-segment step in every evaluation of
+#: the lift), 0.70 s for 360 Bezier segments of degree 20; ×1.5
+CHECKS_FIXED_S = 1.5 * 0.010
+CHECKS_PER_SEGMENT_S = 1.5 * 0.0007
+#: law evaluations of one check per segment (its share of the golden-section steps) and
+#: in all (the 7 200-point grid, three times)
+CHECKS_SAMPLES_PER_SEGMENT = 800
+CHECKS_SAMPLES = 25_000
+#: one sampled profile angle: lift, kinematics and the columns (0.5 µs measured), ×1.5
+PROFILE_SAMPLE_S = 1.5 * 5e-7
+#: profile checks per base-circle limit: the solver's evaluations (bracket, then Illinois
+#: regula falsi to 1e-10) over 36 extreme cases (pressure-angle limits 0.01°-89.9999°,
+#: curvature limits 0-1e6 mm, starting radii 1-1e4 mm): median 15, 90th percentile 24, up
+#: to 49 where a limit never binds and the radius falls to the geometric floor. The typical
+#: count is estimated; the deadline (work_deadline_s) stops what runs far longer
+CHECKS_PER_LIMIT = 16
+
+
+@dataclass(frozen=True)
+class WorkTerm:
+    """One part of an estimate: the request field that drives it, what it is, its cost [s]."""
+
+    field: Field
+    what: str
+    seconds: float
+
+
+@dataclass(frozen=True)
+class WorkEstimate:
+    """The estimated seconds of a computation, as a sum of terms."""
+
+    terms: tuple[WorkTerm, ...] = ()
+
+    @property
+    def seconds(self) -> float:
+        """The estimate [s]."""
+        return sum(term.seconds for term in self.terms)
+
+    def __add__(self, other: WorkEstimate) -> WorkEstimate:
+        return WorkEstimate(self.terms + other.terms)
+
+    def largest(self) -> WorkTerm:
+        """The term that costs most (what to reduce first)."""
+        return max(self.terms, key=lambda term: term.seconds)
+
+
+def law_cost(kind: str, parameters: Mapping[str, Any]) -> LawCost:
+    """The cost of one curve of a kind with these parameters, before it is built.
+
+    Parameters
+    ----------
+    kind : str
+        A key of :data:`camcore.curves.kinds.CURVE_KINDS`.
+    parameters : mapping
+        The kind's parameters (sizes are read from them: control points, points).
+
+    Returns
+    -------
+    LawCost
+        Seconds to build it (with characteristic values and inverse start tables) and
+        per evaluated time [s].
+
+    References
+    ----------
+    camcore.curves.kinds, the measurements beside each kind's cost.
+    """
+    return CURVE_KINDS[kind].cost(parameters)
+
+
+def curve_work(law: LawCost, field: Field) -> WorkEstimate:
+    """Building one curve.
+
+    Parameters
+    ----------
+    law : LawCost
+        The curve's cost (:func:`law_cost`).
+    field : tuple
+        The request field of the curve spec.
+
+    Returns
+    -------
+    WorkEstimate
+        One term [s].
+
+    References
+    ----------
+    camcore.curves.kinds (LawCost).
+    """
+    return WorkEstimate((WorkTerm(field, "building the curve", law.build_s),))
+
+
+def per_item_work(count: int, seconds_each: float, field: Field, what: str) -> WorkEstimate:
+    """``count`` items of equal cost, e.g. the rows of a table.
+
+    Parameters
+    ----------
+    count : int
+        Number of items [-].
+    seconds_each : float
+        Cost of one item [s].
+    field : tuple
+        The request field that sets the count.
+    what : str
+        What the items are, for the caller's message.
+
+    Returns
+    -------
+    WorkEstimate
+        One term [s].
+
+    References
+    ----------
+    camcore.work, module notes.
+    """
+    return WorkEstimate((WorkTerm(field, what, count * seconds_each),))
+
+
+def checks_work(laws: Sequence[LawCost | None], field: Field) -> WorkEstimate:
+    """One run of the profile checks over a cam of these segments.
+
+    Parameters
+    ----------
+    laws : sequence of LawCost or None
+        Each segment's law (None: a dwell or the default cycloid).
+    field : tuple
+        The request field of the segments (what to reduce).
+
+    Returns
+    -------
+    WorkEstimate
+        One term [s].
+
+    References
+    ----------
+    camcore.profile.checks; the measurements beside :data:`CHECKS_FIXED_S`.
+    """
+    costs = [law.sample_s if law is not None else 5e-8 for law in laws] or [5e-8]
+    seconds = (CHECKS_FIXED_S + CHECKS_PER_SEGMENT_S * len(costs)
+               + 1.5 * (CHECKS_SAMPLES_PER_SEGMENT * sum(costs) + CHECKS_SAMPLES * max(costs)))
+    return WorkEstimate((WorkTerm(field, f"the profile checks of {len(costs)} segments", seconds),))
+
+
+def profile_work(laws: Sequence[LawCost | None], samples: int, segments_field: Field,
+                 samples_field: Field) -> WorkEstimate:
+    """A sampled plate-cam profile with its checks (the curves built apart).
+
+    Parameters
+    ----------
+    laws : sequence of LawCost or None
+        Each segment's law (None: a dwell or the default cycloid).
+    samples : int
+        Cam angles sampled [-].
+    segments_field, samples_field : tuple
+        The request fields of the segments and of the sample count.
+
+    Returns
+    -------
+    WorkEstimate
+        Checks and samples [s].
+
+    References
+    ----------
+    camcore.profile.compute; the measurements beside :data:`PROFILE_SAMPLE_S`.
+    """
+    slowest = max((law.sample_s for law in laws if law is not None), default=5e-8)
+    return checks_work(laws, segments_field) + per_item_work(
+        samples, PROFILE_SAMPLE_S + slowest, samples_field, f"{samples} profile samples")
+
+
+def base_circle_work(laws: Sequence[LawCost | None], limits: int, segments_field: Field) -> WorkEstimate:
+    """Base-circle sizing: per limit :data:`CHECKS_PER_LIMIT` profile checks, one more at the end.
+
+    Parameters
+    ----------
+    laws : sequence of LawCost or None
+        Each segment's law (None: a dwell or the default cycloid).
+    limits : int
+        Limits solved for (pressure angle, radius of curvature) [-].
+    segments_field : tuple
+        The request field of the segments.
+
+    Returns
+    -------
+    WorkEstimate
+        One term [s].
+
+    References
+    ----------
+    camcore.profile.base_circle; the measurements beside :data:`CHECKS_PER_LIMIT`.
+    """
+    one = checks_work(laws, segments_field).seconds
+    runs = CHECKS_PER_LIMIT * max(limits, 1) + 1
+    return WorkEstimate((WorkTerm(segments_field, f"{runs} profile checks of {max(len(laws), 1)} segments",
+                                  runs * one),))

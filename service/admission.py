@@ -1,0 +1,142 @@
+"""Admission: what a worker takes on, and what it refuses at once.
+
+Two bounds per worker process:
+
+- :class:`InFlightLimit` (ASGI middleware): at most ``max_in_flight`` requests in progress;
+  one more is answered 503 with ``Retry-After`` before its body is read. ``/health`` is
+  never refused (probes must see a busy worker as alive).
+- :class:`WorkGate`: a computation runs in a worker thread only after its estimated work
+  (camcore.work) has been checked against the budget (413 over it) and admitted: at most
+  ``work_slots`` run at once, and the estimated seconds admitted but not finished stay
+  under ``max_queued_work_s`` (503 with ``Retry-After`` beyond, so no accepted request
+  waits long). A running computation has a deadline (``work_deadline_s``) and is
+  cancelled when its client disconnects; camcore's loops stop it at their next
+  checkpoint (camcore.deadline), answered 503.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import functools
+from collections.abc import Callable
+from typing import Any, TypeVar
+
+import anyio
+import orjson
+from starlette.requests import Request
+from starlette.types import ASGIApp, Receive, Scope, Send
+
+from camcore.deadline import Deadline, running_until
+from camcore.errors import WorkLimitError
+from camcore.work import WorkEstimate
+from service.errors import RETRY_AFTER_S, ServiceBusyError
+from service.settings import Settings
+
+T = TypeVar("T")
+
+#: paths never refused for being busy (liveness probes)
+ALWAYS_ADMITTED = frozenset({"/health"})
+
+
+def busy_body(detail: str) -> bytes:
+    return orjson.dumps({"detail": detail, "errors": []})
+
+
+class InFlightLimit:
+    """Answers 503 (with Retry-After) when ``max_in_flight`` requests are in progress."""
+
+    def __init__(self, app: ASGIApp, max_in_flight: int, retry_after_s: int = RETRY_AFTER_S):
+        self.app = app
+        self.max_in_flight = max_in_flight
+        self.retry_after_s = retry_after_s
+        self.in_flight = 0
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http" or scope["path"] in ALWAYS_ADMITTED:
+            await self.app(scope, receive, send)
+            return
+        if self.in_flight >= self.max_in_flight:
+            payload = busy_body(f"this worker is busy: {self.in_flight} requests in progress, the limit is "
+                                f"{self.max_in_flight}; retry after {self.retry_after_s} s.")
+            await send({"type": "http.response.start", "status": 503,
+                        "headers": [(b"content-type", b"application/json"),
+                                    (b"content-length", str(len(payload)).encode()),
+                                    (b"retry-after", str(self.retry_after_s).encode())]})
+            await send({"type": "http.response.body", "body": payload})
+            return
+        self.in_flight += 1
+        try:
+            await self.app(scope, receive, send)
+        finally:
+            self.in_flight -= 1
+
+
+class WorkGate:
+    """Budget, slots, queue and deadline of the computations of one worker process."""
+
+    def __init__(self, settings: Settings):
+        self.budget_s = settings.max_work_s
+        self.deadline_s = settings.work_deadline_s
+        self.max_queued_s = settings.max_queued_work_s
+        self.retry_after_s = RETRY_AFTER_S
+        self.slots = settings.work_slots
+        self.admitted_s = 0.0  # estimated seconds admitted and not finished (waiting or running)
+        self.admitted = 0
+        self.refused_busy = 0
+        self._semaphore: asyncio.Semaphore | None = None
+
+    def check_budget(self, estimate: WorkEstimate) -> None:
+        """413 (WorkLimitError) when the estimate is over the budget, naming its largest part."""
+        if estimate.seconds > self.budget_s:
+            largest = estimate.largest()
+            raise WorkLimitError(estimate.seconds, self.budget_s, largest.what, field=largest.field)
+
+    async def run(self, request: Request, estimate: WorkEstimate, work: Callable[..., T], *args: Any) -> T:
+        """``work(*args)`` in a worker thread, once admitted; its deadline and the client's
+        disconnect stop it (camcore.errors.WorkStoppedError, answered 503)."""
+        self.check_budget(estimate)
+        seconds = estimate.seconds
+        if self.admitted and self.admitted_s + seconds > self.max_queued_s:
+            self.refused_busy += 1
+            raise ServiceBusyError(
+                f"this worker is busy: {self.admitted} computations ({self.admitted_s:.2g} s of estimated work) "
+                f"are admitted, the limit is {self.max_queued_s:g} s; retry after {self.retry_after_s} s.",
+                self.retry_after_s)
+        if self._semaphore is None:
+            self._semaphore = asyncio.Semaphore(self.slots)
+        self.admitted_s += seconds
+        self.admitted += 1
+        try:
+            async with self._semaphore:
+                return await self._run_watched(request, work, *args)
+        finally:
+            self.admitted_s = max(0.0, self.admitted_s - seconds)
+            self.admitted -= 1
+
+    async def _run_watched(self, request: Request, work: Callable[..., T], *args: Any) -> T:
+        deadline = Deadline(self.deadline_s)
+
+        async def watch_disconnect() -> None:
+            while (await request.receive())["type"] != "http.disconnect":
+                pass
+            deadline.cancel("the client closed the connection; the computation was stopped.")
+
+        failure: Exception | None = None
+        async with anyio.create_task_group() as group:
+            group.start_soon(watch_disconnect)
+            with running_until(deadline):  # the thread runs in a copy of this context
+                try:
+                    result = await anyio.to_thread.run_sync(functools.partial(work, *args))
+                except Exception as exc:  # noqa: BLE001  # re-raised below, outside the group (not as an ExceptionGroup)
+                    failure = exc
+                finally:
+                    group.cancel_scope.cancel()
+        if failure is not None:
+            raise failure
+        return result
+
+    def stats(self) -> dict[str, float]:
+        return {"slots": self.slots, "admitted": self.admitted, "admitted_s": round(self.admitted_s, 3),
+                "refused_busy": self.refused_busy, "budget_s": self.budget_s,
+                "max_queued_s": self.max_queued_s, "deadline_s": self.deadline_s}
+
