@@ -1,0 +1,249 @@
+"""Bounded work (issue 15): the cost model's refusals at their edge, the deadline, a client
+that leaves, the per-worker limits (503 + Retry-After) and streamed answers."""
+
+from __future__ import annotations
+
+import asyncio
+import threading
+import time
+from collections.abc import AsyncIterator
+from typing import Any
+
+import httpx
+import numpy as np
+import orjson
+import pytest
+
+import camcore.profile
+from camcore.curves import build_curve
+from camcore.deadline import Deadline, checkpoint, running_until
+from camcore.errors import WorkStoppedError
+from camcore.work import WorkEstimate, WorkTerm
+from service.admission import InFlightLimit, WorkGate
+from service.app import create_app
+from service.errors import ServiceBusyError
+from service.settings import Settings
+
+pytestmark = pytest.mark.anyio
+
+MS = {"type": "named", "name": "MS"}
+
+
+def cam(segments: int) -> dict[str, Any]:
+    """A roller cam of ``segments`` alternating MS rises and returns over 360°."""
+    span = 360 / segments
+    kinds = ["rise", "return"] * (segments // 2) + ["dwell"] * (segments % 2)
+    return {"follower": {"type": "roller", "roller_radius_mm": 10}, "base_radius_mm": 40,
+            "segments": [{"type": k, "angle_deg": span, **({"lift_mm": 5, "curve": MS} if k != "dwell" else {})}
+                         for k in kinds]}
+
+
+@pytest.fixture
+async def app_client() -> AsyncIterator[tuple[Any, httpx.AsyncClient]]:
+    app = create_app(Settings())
+    async with httpx.AsyncClient(transport=httpx.ASGITransport(app=app), base_url="http://t") as c:
+        yield app, c
+
+
+@pytest.fixture
+def no_base_circle_work(monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    """Counts calls of camcore's base-circle sizing (a refusal must make none)."""
+    calls: list[int] = []
+    real = camcore.profile.size_base_circle
+
+    def counted(*args: Any, **kwargs: Any) -> Any:
+        calls.append(1)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(camcore.profile, "size_base_circle", counted)
+    return calls
+
+
+def edge(estimate_of: Any, sizes: range) -> int:
+    """The largest size whose estimate is within the default budget (sizes ascending)."""
+    budget = Settings().max_work_s
+    accepted = [n for n in sizes if estimate_of(n) <= budget]
+    assert accepted and accepted[-1] < sizes[-1], "the edge lies inside the scanned sizes"
+    return accepted[-1]
+
+
+async def test_base_circle_is_refused_just_past_the_budget(app_client: tuple[Any, httpx.AsyncClient],
+                                                           no_base_circle_work: list[int]) -> None:
+    app, client = app_client
+    from service.profiles.specs import ProfileSpec
+
+    def estimate(n: int) -> float:
+        spec = ProfileSpec.model_validate(cam(n))
+        return float(app.state.profile_service.base_circle_work(spec, 30.0, None).seconds)
+
+    n = edge(estimate, range(2, 80))
+    assert estimate(n + 1) > estimate(n)  # more segments, more work
+    refused = await client.post("/v1/profiles/base-circle", json={"profile": cam(n + 1), "max_pressure_angle_deg": 30})
+    assert refused.status_code == 413, refused.text
+    body = refused.json()
+    assert body["limit"]["name"] == "estimated work [s]" and body["limit"]["limit"] == 1.0
+    assert body["limit"]["requested"] > 1.0
+    assert f"profile checks of {n + 1} segments" in body["detail"] and "reduce that" in body["detail"]
+    assert body["errors"][0]["loc"] == ["body", "profile", "segments"]
+    assert no_base_circle_work == []  # refused before any work
+    accepted = await client.post("/v1/profiles/base-circle", json={"profile": cam(n), "max_pressure_angle_deg": 30})
+    assert accepted.status_code == 200, accepted.text
+    assert no_base_circle_work == [1]
+
+
+async def test_dxf_is_refused_past_the_points_its_writer_can_do_in_budget(
+        app_client: tuple[Any, httpx.AsyncClient]) -> None:
+    app, client = app_client
+    from service.profiles.specs import ProfileSpec
+    spec = ProfileSpec.model_validate(cam(4))
+
+    def estimate(samples: int) -> float:
+        return float(app.state.profile_service.profile_work(spec, samples, None, "dxf").seconds)
+
+    n = edge(estimate, range(1000, 40_001, 1000))
+    refused = await client.post("/v1/profiles/contour.dxf", json={"profile": cam(4), "samples": n + 1000})
+    assert refused.status_code == 413 and "as dxf" in refused.json()["detail"]
+    assert refused.json()["errors"][0]["loc"] == ["body", "samples"]
+    # the same samples as a text file are cheap: accepted
+    xyz = await client.post("/v1/profiles/contour.xyz", json={"profile": cam(4), "samples": n + 1000})
+    # the samples' 0° and 360° are one point, written once; the file closes with the first point again
+    assert xyz.status_code == 200 and xyz.text.count("\n") == n + 1000
+
+
+async def test_the_budget_is_a_setting() -> None:
+    app = create_app(Settings(max_work_s=0.05))  # a closed-form curve builds within 0.03 s (estimated)
+    async with httpx.AsyncClient(transport=httpx.ASGITransport(app=app), base_url="http://t") as client:
+        r = await client.post("/v1/curves/table", json={"curve": MS, "samples": 200_000})
+        assert r.status_code == 413 and "200000 table rows" in r.json()["detail"]
+        assert r.json()["errors"][0]["loc"] == ["body", "samples"]
+        small = await client.post("/v1/curves/table", json={"curve": MS, "samples": 101})
+        assert small.status_code == 200
+
+
+async def test_work_past_the_deadline_is_stopped_with_503() -> None:
+    # 36 segments with both limits run ~0.9 s on the reference machine; 50 ms cannot do it
+    app = create_app(Settings(work_deadline_s=0.05, max_work_s=100))
+    async with httpx.AsyncClient(transport=httpx.ASGITransport(app=app), base_url="http://t") as client:
+        start = time.monotonic()
+        r = await client.post("/v1/profiles/base-circle",
+                              json={"profile": cam(36), "max_pressure_angle_deg": 30, "min_radius_of_curvature_mm": 2})
+        elapsed = time.monotonic() - start
+        assert r.status_code == 503, r.text
+        assert r.headers["retry-after"] == "1" and "deadline of 0.05 s" in r.json()["detail"]
+        # stopped at the first checkpoint after 50 ms: one profile check of 36 segments later
+        # (~30 ms), far from the full sizing; generous for a loaded CI machine
+        assert elapsed < 0.6
+        assert app.state.work_gate.admitted == 0  # the slot and the queue are free again
+
+
+def test_the_deadline_reaches_the_solvers_and_costs_nothing_without_one() -> None:
+    spec = camcore.profile.make_cam(
+        camcore.profile.Follower(type="roller", motion="translating", offset_mm=0, roller_radius_mm=10,
+                                 arm_length_mm=None, pivot_distance_mm=None), 40,
+        segments=[camcore.profile.Segment(type="rise", angle_deg=180, lift_mm=10),
+                  camcore.profile.Segment(type="return", angle_deg=180, lift_mm=10)])
+    with running_until(Deadline(0.0)), pytest.raises(WorkStoppedError, match="deadline"):
+        camcore.profile.size_base_circle(spec, 30.0)
+    cancelled = Deadline(60.0)
+    cancelled.cancel("the client closed the connection; the computation was stopped.")
+    with running_until(cancelled), pytest.raises(WorkStoppedError, match="client closed"):
+        camcore.profile.profile_checks(spec)
+    checkpoint()  # no deadline set: nothing happens
+    assert camcore.profile.size_base_circle(spec, 30.0).base_radius_mm > 0
+
+
+class _Request:
+    """What WorkGate needs of a request: its receive channel."""
+
+    def __init__(self, disconnect_after_s: float | None):
+        self.disconnect_after_s = disconnect_after_s
+
+    async def receive(self) -> dict[str, Any]:
+        if self.disconnect_after_s is None:
+            await asyncio.Event().wait()  # the client stays
+        await asyncio.sleep(self.disconnect_after_s or 0.0)
+        return {"type": "http.disconnect"}
+
+
+def _spin(stop: threading.Event, seconds: float) -> str:
+    """Work that checks its deadline, like camcore's loops; runs ``seconds`` unless stopped."""
+    end = time.monotonic() + seconds
+    while time.monotonic() < end and not stop.is_set():
+        checkpoint()
+        time.sleep(0.001)
+    return "done"
+
+
+def _estimate(seconds: float) -> WorkEstimate:
+    return WorkEstimate((WorkTerm(("samples",), "test work", seconds),))
+
+
+async def test_a_client_that_leaves_stops_its_computation() -> None:
+    gate = WorkGate(Settings(work_deadline_s=60))
+    start = time.monotonic()
+    with pytest.raises(WorkStoppedError, match="client closed"):
+        await gate.run(_Request(disconnect_after_s=0.05), _estimate(0.5), _spin, threading.Event(), 30.0)  # type: ignore[arg-type]
+    assert time.monotonic() - start < 5  # not the 30 s the work would have taken
+    assert gate.admitted == 0 and gate.admitted_s == 0
+
+
+async def test_the_gate_queue_is_bounded_by_estimated_seconds() -> None:
+    gate = WorkGate(Settings(work_slots=1, max_queued_work_s=1.0))
+    stop = threading.Event()
+    running = asyncio.ensure_future(gate.run(_Request(None), _estimate(0.6), _spin, stop, 30.0))  # type: ignore[arg-type]
+    await asyncio.sleep(0.05)
+    waiting = asyncio.ensure_future(gate.run(_Request(None), _estimate(0.3), _spin, stop, 0.0))  # type: ignore[arg-type]
+    await asyncio.sleep(0.05)
+    assert gate.admitted == 2 and gate.admitted_s == pytest.approx(0.9)
+    with pytest.raises(ServiceBusyError) as busy:  # 0.9 + 0.2 s would pass the 1 s queue
+        await gate.run(_Request(None), _estimate(0.2), _spin, stop, 0.0)  # type: ignore[arg-type]
+    assert busy.value.retry_after_s == 1 and "busy" in str(busy.value)
+    stop.set()
+    assert await running == "done" and await waiting == "done"
+    assert gate.admitted == 0 and gate.refused_busy == 1
+    # an idle gate admits one computation however large its estimate is within the budget
+    assert await gate.run(_Request(None), _estimate(0.99), _spin, stop, 0.0) == "done"  # type: ignore[arg-type]
+
+
+async def test_in_flight_limit_answers_503_with_retry_after_but_never_for_health() -> None:
+    release = asyncio.Event()
+
+    async def slow_app(scope: Any, receive: Any, send: Any) -> None:
+        await release.wait()
+        await send({"type": "http.response.start", "status": 200, "headers": []})
+        await send({"type": "http.response.body", "body": b"ok"})
+
+    app = InFlightLimit(slow_app, max_in_flight=2)
+    async with httpx.AsyncClient(transport=httpx.ASGITransport(app=app), base_url="http://t") as client:
+        first = [asyncio.ensure_future(client.get("/v1/curves")) for _ in range(2)]
+        await asyncio.sleep(0.05)
+        refused = await client.get("/v1/curves")
+        assert refused.status_code == 503 and refused.headers["retry-after"] == "1"
+        assert "2 requests in progress, the limit is 2" in refused.json()["detail"]
+        health = asyncio.ensure_future(client.get("/health"))  # admitted: waits like the others
+        await asyncio.sleep(0.05)
+        assert not health.done() and app.in_flight == 2
+        release.set()
+        assert [r.status_code for r in await asyncio.gather(*first, health)] == [200, 200, 200]
+        assert app.in_flight == 0
+
+
+@pytest.mark.parametrize("accept", ["application/json", "text/csv"])
+async def test_large_tables_are_streamed_and_hold_camcores_numbers(app_client: tuple[Any, httpx.AsyncClient],
+                                                                   accept: str) -> None:
+    _app, client = app_client
+    samples = 50_001  # over the streaming threshold (32 768 numbers) and the table cache's rows
+    big = await client.post("/v1/curves/table", json={"curve": MS, "samples": samples}, headers={"Accept": accept})
+    assert big.status_code == 200 and "content-length" not in big.headers  # chunked: streamed
+    curve = build_curve("named", {"name": "MS"})
+    expected = curve.evaluate(curve.sample_times(samples)).columns()
+    if accept == "text/csv":
+        lines = big.text.splitlines()
+        assert lines[0] == ",".join(expected) and len(lines) == samples + 1
+        got = np.array([[float(cell) for cell in line.split(",")] for line in lines[1:]])
+        answer = {name: got[:, i] for i, name in enumerate(expected)}
+    else:
+        answer = {name: np.array(values) for name, values in orjson.loads(big.content).items()}
+    assert list(answer) == list(expected)
+    for name, column in expected.items():  # shortest round-trip text: the same doubles, exactly
+        assert np.array_equal(answer[name], column), name
