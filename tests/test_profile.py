@@ -581,8 +581,7 @@ def test_base_circle_solver_converges_within_its_caps_at_the_extremes(
     """Issue 15: the solver's caps (a 60-step doubling bracket, 200 Illinois steps) are far
     from binding at the extremes of the limits and of the starting radius: each limit took at
     most 49 profile checks when measured; the answer is tight (1e-9 smaller fails the limit)."""
-    import camcore.profile.base_circle as base_circle
-    from camcore.profile import CamSpec, Follower, Segment, make_cam, profile_checks, size_base_circle
+    from camcore.profile import Follower, Segment, base_circle, make_cam, profile_checks, size_base_circle
     calls: list[int] = []
     real = base_circle.profile_checks
 
