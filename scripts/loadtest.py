@@ -1,8 +1,15 @@
-"""Load test: 64 concurrent connections against a real uvicorn, for a bounded time.
+"""Load test: concurrent connections against a real uvicorn, for a bounded time.
 
     python -m scripts.loadtest                    # starts `python -m service` on a free loopback port
     python -m scripts.loadtest --seconds 20       # shorter run
+    python -m scripts.loadtest --connections 256 --workers 2 --runs 3   # three consecutive runs, one server
+    python -m scripts.loadtest --largest 32       # 32 concurrent largest tables: peak and settled RSS
     python -m scripts.loadtest --url http://127.0.0.1:8000   # an already running server (loopback only)
+
+503 answers (the service shedding load, with Retry-After) are counted apart from errors:
+the report gives their share, and the latency of the accepted (200) answers, with how
+many of them waited over 2 s. RSS is reported per worker process (uvicorn's children with
+--workers > 1).
 
 The mix (many distinct specs, drawn from a fixed seed): POST /v1/curves/table (random
 universal break points, Makino curve 4 with random T1 ≤ T3, named curves; JSON or CSV),
@@ -63,11 +70,11 @@ def require_loopback(url: str) -> str:
 class Server:
     """`python -m service` on a free loopback port, as the README runs it."""
 
-    def __init__(self, extra_env: dict[str, str] | None = None):
+    def __init__(self, extra_env: dict[str, str] | None = None, workers: int = 1):
         self.port = free_port()
         self.url = f"http://127.0.0.1:{self.port}"
         env = {**os.environ, "CAMCORE_HOST": "127.0.0.1", "CAMCORE_PORT": str(self.port),
-               "CAMCORE_WORKERS": "1", "CAMCORE_LOG_LEVEL": "warning", **(extra_env or {})}
+               "CAMCORE_WORKERS": str(workers), "CAMCORE_LOG_LEVEL": "warning", **(extra_env or {})}
         self.proc = subprocess.Popen([sys.executable, "-m", "service"], cwd=ROOT, env=env,
                                      stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
 
@@ -88,6 +95,11 @@ class Server:
     def rss_kib(self) -> int | None:
         return rss_kib(self.proc.pid)
 
+    def worker_rss_kib(self) -> list[int]:
+        """VmRSS of each process serving requests: the server, or its worker children."""
+        pids = children(self.proc.pid) or [self.proc.pid]
+        return [kib for kib in (rss_kib(pid) for pid in pids) if kib is not None]
+
     def stop(self) -> None:
         self.proc.terminate()
         try:
@@ -97,6 +109,13 @@ class Server:
             self.proc.wait()
         if self.proc.stderr:
             self.proc.stderr.close()
+
+
+def children(pid: int) -> list[int]:
+    try:
+        return [int(c) for c in Path(f"/proc/{pid}/task/{pid}/children").read_text().split()]
+    except OSError:
+        return []
 
 
 def rss_kib(pid: int) -> int | None:
@@ -144,8 +163,21 @@ def random_spec(rng: random.Random) -> dict[str, Any]:
     return spec
 
 
+PROFILE = {"follower": {"type": "roller", "roller_radius_mm": 10}, "base_radius_mm": 40,
+           "segments": [{"type": "rise", "angle_deg": 120, "lift_mm": 20}, {"type": "dwell", "angle_deg": 60},
+                        {"type": "return", "angle_deg": 120, "lift_mm": 20}, {"type": "dwell", "angle_deg": 60}]}
+
+
 def make_request(rng: random.Random) -> Req:
     spec = random_spec(rng)
+    if rng.random() < 0.05:  # heavy work: profiles, sizing, a large streamed table
+        heavy = rng.random()
+        if heavy < 0.4:
+            return Req("profile", "POST", "/v1/profiles", {"profile": PROFILE, "samples": rng.choice([361, 3601])})
+        if heavy < 0.7:
+            return Req("base-circle", "POST", "/v1/profiles/base-circle",
+                       {"profile": PROFILE, "max_pressure_angle_deg": rng.choice([25, 30, 35])})
+        return Req("large-table", "POST", "/v1/curves/table", {"curve": spec, "samples": 50_001}, csv=True)
     r = rng.random()
     if r < 0.35:
         return Req("table", "POST", "/v1/curves/table", {"curve": spec, "samples": rng.choice([11, 101, 361, 1001])},
@@ -168,7 +200,8 @@ async def send(client: httpx.AsyncClient, req: Req) -> httpx.Response:
 # ----------------------------------------------------------------------------- the run
 @dataclass
 class Stats:
-    latencies: list[float] = field(default_factory=list)
+    latencies: list[float] = field(default_factory=list)  # accepted (200) answers
+    shed: int = 0  # 503 answers (with Retry-After)
     errors: dict[str, int] = field(default_factory=dict)
     by_kind: dict[str, int] = field(default_factory=dict)
     answers: dict[int, bytes] = field(default_factory=dict)  # pool index → body
@@ -213,8 +246,11 @@ async def run_load(url: str, pool: list[Req], seconds: float, connections: int, 
                 except httpx.HTTPError as exc:
                     stats.error(type(exc).__name__)
                     continue
-                stats.latencies.append(time.perf_counter() - t0)
                 stats.by_kind[req.kind] = stats.by_kind.get(req.kind, 0) + 1
+                if r.status_code == 503 and "retry-after" in r.headers:
+                    stats.shed += 1
+                    continue
+                stats.latencies.append(time.perf_counter() - t0)
                 if r.status_code != 200:
                     stats.error(f"HTTP {r.status_code} {req.kind}")
                 elif i in sampled and i not in stats.answers:
@@ -252,56 +288,112 @@ def direct_answer(req: Req) -> dict[str, list[float]] | None:
     return None
 
 
+def run_figures(stats: Stats, elapsed: float) -> dict[str, Any]:
+    accepted = len(stats.latencies)
+    answered = accepted + stats.shed
+    return {
+        "requests": answered + sum(v for k, v in stats.errors.items() if not k.startswith("HTTP")),
+        "elapsed_s": round(elapsed, 2),
+        "throughput_rps": round(answered / elapsed, 1),
+        "accepted_rps": round(accepted / elapsed, 1),
+        "shed_503_share": round(stats.shed / answered, 4) if answered else 0.0,
+        "by_kind": stats.by_kind,
+        "errors": stats.errors,
+        "p50_ms": round(percentile(stats.latencies, 0.50) * 1000, 2),
+        "p99_ms": round(percentile(stats.latencies, 0.99) * 1000, 2),
+        "max_ms": round(max(stats.latencies, default=math.nan) * 1000, 2),
+        "accepted_over_2s": sum(1 for x in stats.latencies if x > 2.0),
+    }
+
+
+async def largest_tables(url: str, server: Server, concurrent: int) -> dict[str, Any]:
+    """``concurrent`` requests for the largest tables at once (200 000-row CSV curve tables
+    and indexer motion tables), RSS polled every 20 ms; then RSS after 5 s of rest."""
+    bodies = [("/v1/curves/table", {"curve": {"type": "named", "name": "MS"}, "samples": 200_000}),
+              ("/v1/indexers/motion", {"indexer": {"stops": 8, "indexing_angle_deg": 120, "speed_rpm": 60,
+                                                   "curve": {"type": "named", "name": "MS"}}, "samples": 200_000})]
+    peak = max(server.worker_rss_kib(), default=0)
+    start_rss = server.worker_rss_kib()
+    statuses: dict[int, int] = {}
+    done = asyncio.Event()
+
+    async def poll() -> None:
+        nonlocal peak
+        while not done.is_set():
+            peak = max([peak, *server.worker_rss_kib()])
+            await asyncio.sleep(0.02)
+
+    limits = httpx.Limits(max_connections=concurrent)
+    async with httpx.AsyncClient(base_url=url, limits=limits, timeout=60.0) as client:
+        async def one(i: int) -> None:
+            path, body = bodies[i % 2]
+            async with client.stream("POST", path, json=body, headers={"Accept": "text/csv"}) as r:
+                async for _ in r.aiter_bytes():
+                    await asyncio.sleep(0)  # a client reading as it comes
+                statuses[r.status_code] = statuses.get(r.status_code, 0) + 1
+
+        poller = asyncio.ensure_future(poll())
+        await asyncio.gather(*(one(i) for i in range(concurrent)))
+        done.set()
+        await poller
+    await asyncio.sleep(5.0)
+    return {"concurrent": concurrent, "statuses": statuses, "rss_start_kib": start_rss, "rss_peak_kib": peak,
+            "rss_after_5s_kib": server.worker_rss_kib()}
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--url", help="target an already running server (loopback only)")
-    ap.add_argument("--seconds", type=float, default=60.0, help="duration (default 60)")
+    ap.add_argument("--seconds", type=float, default=60.0, help="duration of each run (default 60)")
     ap.add_argument("--connections", type=int, default=64)
-    ap.add_argument("--max-requests", type=int, default=1_000_000, help="hard cap on requests")
+    ap.add_argument("--workers", type=int, default=1, help="uvicorn workers of the server this script starts")
+    ap.add_argument("--runs", type=int, default=1, help="consecutive runs against the same server")
+    ap.add_argument("--largest", type=int, default=0, help="instead: this many concurrent largest tables")
+    ap.add_argument("--max-requests", type=int, default=1_000_000, help="hard cap on requests per run")
     ap.add_argument("--specs", type=int, default=2000, help="distinct requests in the pool")
     ap.add_argument("--sample", type=int, default=200, help="answers compared with a cold run")
     ap.add_argument("--seed", type=int, default=20240601)
     ap.add_argument("--json", help="write the figures to this file as JSON")
     args = ap.parse_args(argv)
-    if not 0 < args.seconds <= 3600:
-        ap.error("--seconds must be in (0, 3600]")
+    if not 0 < args.seconds <= 3600 or not 1 <= args.runs <= 20 or not 1 <= args.connections <= 4096:
+        ap.error("--seconds must be in (0, 3600], --runs in 1..20, --connections in 1..4096")
+    if args.largest and args.url:
+        ap.error("--largest measures the RSS of a server this script starts: no --url")
 
     server = None
     if args.url:
         url = require_loopback(args.url)
     else:
-        server = Server()
+        server = Server(workers=args.workers)
         server.wait_ready()
         url = server.url
-    report: dict[str, Any] = {"url": url, "connections": args.connections, "seconds": args.seconds}
+    report: dict[str, Any] = {"url": url, "connections": args.connections, "workers": args.workers,
+                              "seconds": args.seconds, "runs": []}
+    pool = request_pool(args.seed, args.specs)
+    stats = Stats()
     try:
+        if args.largest:
+            assert server is not None
+            report["largest"] = asyncio.run(largest_tables(url, server, args.largest))
+            print(json.dumps(report, indent=1))
+            return 0
         if server:
-            report["rss_start_kib"] = server.rss_kib()
-        t0 = time.monotonic()
-        pool = request_pool(args.seed, args.specs)
-        stats = asyncio.run(run_load(url, pool, args.seconds, args.connections, args.max_requests, args.seed,
-                                     args.sample))
-        elapsed = time.monotonic() - t0
-        if server:
-            report["rss_end_kib"] = server.rss_kib()
-        report["caches"] = httpx.get(f"{url}/health", timeout=10).json()["caches"]
+            report["rss_start_kib"] = server.worker_rss_kib()
+        for run in range(args.runs):
+            t0 = time.monotonic()
+            stats = asyncio.run(run_load(url, pool, args.seconds, args.connections, args.max_requests,
+                                         args.seed + run, args.sample))
+            figures = run_figures(stats, time.monotonic() - t0)
+            if server:
+                figures["rss_end_kib"] = server.worker_rss_kib()
+            report["runs"].append(figures)
+            print(json.dumps(figures), file=sys.stderr)
+        report["health"] = httpx.get(f"{url}/health", timeout=10).json()
     finally:
         if server:
             server.stop()
 
-    n = len(stats.latencies)
-    report.update(
-        requests=n + sum(v for k, v in stats.errors.items() if not k.startswith("HTTP")),
-        elapsed_s=round(elapsed, 2),
-        throughput_rps=round(n / elapsed, 1),
-        by_kind=stats.by_kind,
-        errors=stats.errors,
-        p50_ms=round(percentile(stats.latencies, 0.50) * 1000, 2),
-        p99_ms=round(percentile(stats.latencies, 0.99) * 1000, 2),
-        max_ms=round(max(stats.latencies, default=math.nan) * 1000, 2),
-    )
-
-    # identical to a cold run
+    # identical to a cold run (the last run's sampled answers)
     indices = sorted(stats.answers)
     mismatches = 0
     if args.url:
@@ -328,7 +420,8 @@ def main(argv: list[str] | None = None) -> int:
     print(json.dumps(report, indent=1))
     if args.json:
         Path(args.json).write_text(json.dumps(report, indent=1) + "\n", encoding="utf-8")
-    return 1 if (stats.errors or mismatches) else 0
+    errors = any(run["errors"] for run in report["runs"])
+    return 1 if (errors or mismatches) else 0
 
 
 if __name__ == "__main__":
