@@ -79,7 +79,7 @@ class WorkLimitError(LimitExceededError):
 
     def __init__(self, seconds: float, budget_s: float, largest: str, field: tuple[str | int, ...] = ()):
         LimitExceededError.__init__(self, "estimated work [s]", round(seconds, 3), budget_s, field=field)
-        message = (f"the estimated work of this request is {seconds:.2g} s, over the budget of {budget_s:g} s; "
+        message = (f"the estimated work of this request is {seconds:.3g} s, over the budget of {budget_s:g} s; "
                    f"most of it is {largest}: reduce that.")
         self.args = (message,)
 
