@@ -37,7 +37,7 @@ class CamcoreAPI(FastAPI):
 def create_app(settings: Settings | None = None) -> FastAPI:
     settings = settings or Settings()
     app = CamcoreAPI(title="camcore", version=camcore.__version__, description=DESCRIPTION,
-                  docs_url=None, redoc_url=None)  # served offline by install_offline_docs
+                     docs_url=None, redoc_url=None)  # served offline by install_offline_docs
     app.state.settings = settings
     app.state.curve_service = CurveService(settings)
     app.state.indexer_service = IndexerService(app.state.curve_service)
