@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from fastapi import FastAPI
+from starlette.types import ASGIApp
 
 import camcore
 from service.admission import InFlightLimit, WorkGate
@@ -12,7 +13,7 @@ from service.errors import install_error_handlers
 from service.health import router as health_router
 from service.indexers import routes as indexers
 from service.indexers.service import IndexerService
-from service.middleware import BodySizeLimit
+from service.middleware import AllowedMethods, BodySizeLimit, JSONBodiesOnly, SecurityHeaders
 from service.offline_docs import install_offline_docs
 from service.plots import routes as plots
 from service.profiles import routes as profiles
@@ -26,10 +27,18 @@ lookups, indexer sizing and plate-cam profiles. Tables are column-oriented JSON,
 on `Accept: text/csv` (POST) or `?format=csv` (GET)."""
 
 
+class CamcoreAPI(FastAPI):
+    """FastAPI with :class:`SecurityHeaders` outside everything, Starlette's own error
+    middleware included (its 500 answers would miss the headers otherwise)."""
+
+    def build_middleware_stack(self) -> ASGIApp:
+        return SecurityHeaders(super().build_middleware_stack())
+
+
 def create_app(settings: Settings | None = None) -> FastAPI:
     settings = settings or Settings()
-    app = FastAPI(title="camcore", version=camcore.__version__, description=DESCRIPTION,
-                  docs_url=None, redoc_url=None)  # served offline by install_offline_docs
+    app = CamcoreAPI(title="camcore", version=camcore.__version__, description=DESCRIPTION,
+                     docs_url=None, redoc_url=None)  # served offline by install_offline_docs
     app.state.settings = settings
     app.state.work_gate = WorkGate(settings)
     app.state.curve_service = CurveService(settings)
@@ -43,6 +52,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.include_router(plots.router)
     install_offline_docs(app)  # before security: it publishes the asset paths left open
     app.add_middleware(BodySizeLimit, max_body_bytes=settings.max_body_bytes)
-    app.add_middleware(InFlightLimit, max_in_flight=settings.max_in_flight)  # before any body is read
-    install_security(app, settings)  # last: outermost (CORS, then the key, then the body limit)
+    app.add_middleware(JSONBodiesOnly, routes=app.router.routes)  # 415 before any body is read
+    app.add_middleware(AllowedMethods, routes=app.router.routes)
+    app.add_middleware(InFlightLimit, max_in_flight=settings.max_in_flight)  # 503 before any body is read
+    # last: outermost (CORS, then the key, then the in-flight limit, methods, media type and body limit)
+    install_security(app, settings)
     return app

@@ -29,3 +29,9 @@ router = APIRouter(tags=["service"], route_class=OrjsonRoute)
 async def health(service: Annotated[CurveService, Depends(curve_service)]) -> Response:
     """Liveness and version, with the caches' hit and miss counts."""
     return JSONBody({"status": "ok", "version": camcore.__version__, "caches": service.cache_stats()})
+
+
+@router.head("/health", include_in_schema=False)
+async def health_head(service: Annotated[CurveService, Depends(curve_service)]) -> Response:
+    """The same answer without its body, for load balancers and probes that send HEAD."""
+    return await health(service)

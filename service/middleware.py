@@ -1,15 +1,133 @@
-"""ASGI middleware: refuse bodies over the configured size with 413 naming the limit."""
+"""ASGI middleware: HTTP semantics the routes do not state themselves.
+
+- :class:`SecurityHeaders`: ``X-Content-Type-Options: nosniff`` on every answer;
+- :class:`AllowedMethods`: a 405's ``Allow`` lists every method the path accepts;
+- :class:`JSONBodiesOnly`: a body in another media type than JSON is refused with 415;
+- :class:`BodySizeLimit`: a body over the configured size is refused with 413 naming the limit.
+
+Their answers carry the service's error body, ``{"detail": ..., "errors": []}``.
+"""
 
 from __future__ import annotations
 
+import email.message
+from collections.abc import Iterable, Iterator, Sequence
 from typing import Any
 
 import orjson
+from fastapi.routing import RouteContext, iter_route_contexts
+from starlette.routing import BaseRoute, Match
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
+#: on every answer: browsers must not guess a type other than the one declared (an SVG plot,
+#: a CSV table, an error body)
+SECURITY_HEADERS: list[tuple[bytes, bytes]] = [(b"x-content-type-options", b"nosniff")]
+#: the media type the POST bodies are read as (FastAPI also reads any ``application/*+json``)
+JSON_MEDIA_TYPE = "application/json"
 
-class _TooLarge(Exception):
-    pass
+
+async def send_error(send: Send, status: int, detail: str, headers: Iterable[tuple[bytes, bytes]] = (),
+                     **extra: Any) -> None:
+    payload = orjson.dumps({"detail": detail, "errors": [], **extra})
+    await send({"type": "http.response.start", "status": status,
+                "headers": [(b"content-type", b"application/json"),
+                            (b"content-length", str(len(payload)).encode()), *headers]})
+    await send({"type": "http.response.body", "body": payload})
+
+
+class SecurityHeaders:
+    """Adds :data:`SECURITY_HEADERS` to every HTTP answer (it wraps the whole app, error
+    answers included: see ``service.app.CamcoreAPI``)."""
+
+    def __init__(self, app: ASGIApp):
+        self.app = app
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+
+        async def send_with_headers(message: Message) -> None:
+            if message["type"] == "http.response.start":
+                message = {**message, "headers": [*message.get("headers", []), *SECURITY_HEADERS]}
+            await send(message)
+
+        await self.app(scope, receive, send_with_headers)
+
+
+def _matching_routes(routes: Sequence[BaseRoute], scope: Scope) -> Iterator[tuple[Match, RouteContext]]:
+    """Every route (also inside included routers) matching the request: FULL for path and
+    method, PARTIAL for the path only."""
+    for route in iter_route_contexts(routes):
+        match, _ = route.matches(scope)
+        if match != Match.NONE:
+            yield match, route
+
+
+class AllowedMethods:
+    """Gives a 405 the ``Allow`` header of every route matching the path, not only the
+    first: Starlette takes the first partial match, so ``OPTIONS /v1/curves/table`` said
+    ``Allow: GET`` (from ``GET /v1/curves/{name}``) and left out its own POST."""
+
+    def __init__(self, app: ASGIApp, routes: Sequence[BaseRoute]):
+        self.app = app
+        self.routes = routes  # the router's live list: routes added later count too
+
+    def allowed(self, scope: Scope) -> list[str]:
+        methods: set[str] = set()
+        for _, route in _matching_routes(self.routes, scope):
+            methods |= route.methods or set()  # a Mount has none (its app answers for itself)
+        return sorted(methods)
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+
+        async def send_with_allow(message: Message) -> None:
+            if message["type"] == "http.response.start" and message["status"] == 405:
+                allowed = self.allowed(scope)
+                if allowed:
+                    headers = [(k, v) for k, v in message.get("headers", []) if k.lower() != b"allow"]
+                    message = {**message, "headers": [*headers, (b"allow", ", ".join(allowed).encode())]}
+            await send(message)
+
+        await self.app(scope, receive, send_with_allow)
+
+
+def is_json_media_type(content_type: str) -> bool:
+    """FastAPI's rule for reading a body as JSON: ``application/json`` or ``application/*+json``."""
+    message = email.message.Message()
+    message["content-type"] = content_type
+    subtype = message.get_content_subtype()
+    return message.get_content_maintype() == "application" and (subtype == "json" or subtype.endswith("+json"))
+
+
+class JSONBodiesOnly:
+    """Answers 415 naming ``application/json`` when a request to a route that reads a body
+    declares another Content-Type (text/plain, a form, multipart...). A request without
+    Content-Type is left to the route, and one to an unknown path or method to the router
+    (404, 405)."""
+
+    def __init__(self, app: ASGIApp, routes: Sequence[BaseRoute]):
+        self.app = app
+        self.routes = routes
+
+    def _reads_body(self, scope: Scope) -> bool:
+        return any(match == Match.FULL and getattr(route, "body_field", None) is not None
+                   for match, route in _matching_routes(self.routes, scope))
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] == "http":
+            content_type = next((v for k, v in scope.get("headers", []) if k == b"content-type"), None)
+            if content_type and content_type.strip():  # an empty one counts as missing, as for FastAPI
+                declared = content_type.decode("latin-1")
+                if not is_json_media_type(declared) and self._reads_body(scope):
+                    shown = declared.split(";")[0].strip()[:100] or "(empty)"
+                    await send_error(send, 415, f"Content-Type {shown} is not supported: send the request "
+                                                f"body as {JSON_MEDIA_TYPE}.")
+                    return
+        await self.app(scope, receive, send)
 
 
 class BodySizeLimit:
@@ -34,35 +152,37 @@ class BodySizeLimit:
                     return
         received = 0
         started = False
+        refused = False  # the body passed the limit
+        answered = False  # ... and the 413 is the answer
 
         async def limited_receive() -> Message:
-            nonlocal received
+            # Over the limit, answer 413 here and tell the app the client has gone: an
+            # exception raised in receive() would reach FastAPI's body reading, which turns
+            # every exception into 400 "There was an error parsing the body".
+            nonlocal received, refused, answered
+            if refused:
+                return {"type": "http.disconnect"}
             message = await receive()
             if message["type"] == "http.request":
                 received += len(message.get("body", b""))
                 if received > self.max_body_bytes:
-                    raise _TooLarge()
+                    refused = True
+                    if not started:
+                        answered = True
+                        await self._refuse(send, received)
+                    return {"type": "http.disconnect"}
             return message
 
         async def tracking_send(message: Message) -> None:
             nonlocal started
+            if answered:
+                return
             if message["type"] == "http.response.start":
                 started = True
             await send(message)
 
-        try:
-            await self.app(scope, limited_receive, tracking_send)
-        except _TooLarge:
-            if not started:
-                await self._refuse(send, received)
+        await self.app(scope, limited_receive, tracking_send)
 
     async def _refuse(self, send: Send, size: int) -> None:
-        body: dict[str, Any] = {
-            "detail": f"request body size is {size} bytes, over the limit of {self.max_body_bytes} bytes.",
-            "errors": [],
-            "limit": {"name": "request body size", "requested": size, "limit": self.max_body_bytes},
-        }
-        payload = orjson.dumps(body)
-        await send({"type": "http.response.start", "status": 413,
-                    "headers": [(b"content-type", b"application/json"), (b"content-length", str(len(payload)).encode())]})
-        await send({"type": "http.response.body", "body": payload})
+        await send_error(send, 413, f"request body size is {size} bytes, over the limit of {self.max_body_bytes} bytes.",
+                         limit={"name": "request body size", "requested": size, "limit": self.max_body_bytes})

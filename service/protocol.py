@@ -1,26 +1,241 @@
-"""uvicorn's httptools protocol with TCP_NODELAY on every connection.
+"""uvicorn's httptools protocol with TCP_NODELAY, header and URL size limits and read timeouts.
 
 httptools (llhttp, in C) parses requests at about twice the rate of the pure-Python h11
 (bench/README.md); uvicorn runs it on uvloop. Both are in requirements.lock.
 
-With several workers, uvicorn binds the listening socket itself as
+TCP_NODELAY: with several workers, uvicorn binds the listening socket itself as
 ``socket.socket(family=...)`` (protocol number 0); asyncio only sets TCP_NODELAY on
 accepted sockets whose protocol is IPPROTO_TCP, so every multi-worker connection ran with
 Nagle's algorithm against delayed ACKs: ~40 ms per small answer, and two workers served
 fewer requests than one (bench/README.md, workers_scaling).
+
+Limits uvicorn's httptools protocol does not have (it has only the keep-alive timeout; h11's
+``h11_max_incomplete_event_size`` does not apply to httptools): they are checked here, as the
+bytes arrive, before the app (and so before the API-key check) sees the request:
+
+- request line and headers over ``max_header_bytes`` → 431; the bytes are counted before
+  they are fed to the parser, which otherwise buffers a header of any size (quadratically:
+  httptools concatenates each piece to what it holds);
+- request target over ``max_url_bytes`` → 414 (httptools cannot parse a URL over 64 KiB
+  at all, and uvicorn answered that with a text/plain 400);
+- headers not complete ``header_timeout_s`` after the connection opened (or, on a kept-alive
+  connection, after the request's first byte), or the body not complete ``body_timeout_s``
+  after the headers → 408, or only closing when an answer has already started. The time a
+  request waits with reading paused by the server (a pipelined request, a body the app has
+  not read yet) is not held against the client.
+
+Each refusal is the service's JSON error body with ``Connection: close``. The server then
+stops reading requests, half-closes, and discards what the client still sends for at most
+``LINGER_S`` (so a client still writing its headers or body reads the answer instead of a
+connection reset), then closes.
 """
 
 from __future__ import annotations
 
 import asyncio
+import functools
 import socket
+from asyncio import TimerHandle
+from dataclasses import dataclass
+from typing import Any, Literal
 
-from uvicorn.protocols.http.httptools_impl import HttpToolsProtocol
+import httptools
+import orjson
+from uvicorn.config import Config
+from uvicorn.protocols.http.httptools_impl import STATUS_LINE, HttpToolsProtocol
+from uvicorn.server import ServerState
+
+from service.middleware import SECURITY_HEADERS
+from service.settings import Settings
+
+#: after a refusal, how long what the client still sends is read and discarded before closing [s]
+LINGER_S = 2.0
+
+Phase = Literal["headers", "body"]
 
 
-class NoDelayHttpToolsProtocol(HttpToolsProtocol):
+@dataclass(frozen=True)
+class TransportLimits:
+    max_header_bytes: int
+    max_url_bytes: int
+    header_timeout_s: float
+    body_timeout_s: float
+
+    @classmethod
+    def from_settings(cls, settings: Settings) -> TransportLimits:
+        return cls(settings.max_header_bytes, settings.max_url_bytes,
+                   settings.header_timeout_s, settings.body_timeout_s)
+
+
+@functools.cache
+def limits_from_environment() -> TransportLimits:
+    """The limits of this process's settings (the same CAMCORE_* environment as the app's);
+    ``python -m service`` has validated them before uvicorn started."""
+    return TransportLimits.from_settings(Settings())
+
+
+class _Refusal(Exception):
+    """Raised in a parser callback to stop parsing and answer ``status``."""
+
+    def __init__(self, status: int, detail: str):
+        super().__init__(detail)
+        self.status = status
+        self.detail = detail
+
+
+class LimitedHttpToolsProtocol(HttpToolsProtocol):
+    def __init__(self, config: Config, server_state: ServerState, app_state: dict[str, Any],
+                 _loop: asyncio.AbstractEventLoop | None = None, limits: TransportLimits | None = None) -> None:
+        super().__init__(config, server_state, app_state, _loop)
+        self.limits = limits or limits_from_environment()
+        self._read_timer: TimerHandle | None = None
+        self._read_phase: Phase = "headers"
+        self._reading_headers = True  # the next bytes belong to a request line or headers
+        self._header_bytes = 0  # bytes of the current request line and headers seen so far
+        self._refused = False  # an answer to a refusal is out: discard everything else
+
+    # ------------------------------------------------------------------ connection
     def connection_made(self, transport: asyncio.Transport) -> None:  # type: ignore[override]
         sock = transport.get_extra_info("socket")
         if sock is not None and sock.family in (socket.AF_INET, socket.AF_INET6):
             sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         super().connection_made(transport)
+        self._arm("headers")  # a connection that sends nothing is timed like a slow one
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        self._disarm()
+        super().connection_lost(exc)
+
+    def data_received(self, data: bytes) -> None:
+        if self._refused:
+            return  # lingering after a refusal
+        self._unset_keepalive_if_required()
+        view = memoryview(data)
+        while view:
+            if self._reading_headers:
+                # feed no more than the limit allows; what follows the headers in the same
+                # read is fed on the next turn. A pipelined request that starts inside a
+                # piece is counted from the next read on (so it may pass the limit by one
+                # read, <= 256 KiB on uvloop, before it is refused).
+                room = self.limits.max_header_bytes - self._header_bytes
+                if room <= 0:
+                    self._refuse(431, f"The request line and headers are larger than the limit of "
+                                      f"{self.limits.max_header_bytes} bytes.")
+                    return
+                piece, view = view[:room], view[room:]
+                self._header_bytes += len(piece)
+            else:
+                piece, view = view, view[:0]
+            if not self._feed(piece):
+                return
+
+    def _feed(self, piece: memoryview) -> bool:
+        """Parse ``piece``; False once the connection is answered, closing or upgraded."""
+        try:
+            self.parser.feed_data(piece)
+        except httptools.HttpParserCallbackError as exc:
+            refusal = exc.__context__
+            if isinstance(refusal, _Refusal):
+                self._refuse(refusal.status, refusal.detail)
+            else:
+                self.logger.warning("Invalid HTTP request received.")
+                self.send_400_response("Invalid HTTP request received.")
+            return False
+        except httptools.HttpParserError:
+            self.logger.warning("Invalid HTTP request received.")
+            self.send_400_response("Invalid HTTP request received.")
+            return False
+        except httptools.HttpParserUpgrade:  # as uvicorn does
+            if self._should_upgrade():
+                self._disarm()
+                self.handle_websocket_upgrade()
+            else:
+                self._unsupported_upgrade_warning()
+            return False
+        return not self.transport.is_closing()
+
+    # ------------------------------------------------------------------ parser callbacks
+    def on_message_begin(self) -> None:
+        super().on_message_begin()
+        if self._read_timer is None:  # on a fresh connection the clock runs since it opened
+            self._arm("headers")
+
+    def on_url(self, url: bytes) -> None:
+        if len(self.url) + len(url) > self.limits.max_url_bytes:
+            raise _Refusal(414, f"The request URL is longer than the limit of {self.limits.max_url_bytes} bytes.")
+        super().on_url(url)
+
+    def on_headers_complete(self) -> None:
+        self._reading_headers = False
+        self._arm("body")  # disarmed again at the message's end, at once when it has no body
+        super().on_headers_complete()
+
+    def on_message_complete(self) -> None:
+        self._disarm()
+        self._reading_headers = True
+        self._header_bytes = 0
+        super().on_message_complete()
+
+    # ------------------------------------------------------------------ timeouts
+    def _arm(self, phase: Phase) -> None:
+        self._disarm()
+        self._read_phase = phase
+        timeout = self.limits.header_timeout_s if phase == "headers" else self.limits.body_timeout_s
+        self._read_timer = self.loop.call_later(timeout, self._read_timed_out)
+
+    def _disarm(self) -> None:
+        if self._read_timer is not None:
+            self._read_timer.cancel()
+            self._read_timer = None
+
+    def _read_timed_out(self) -> None:
+        self._read_timer = None
+        if self.transport.is_closing() or self._refused:
+            return
+        phase = self._read_phase
+        previous_running = self.cycle is not None and not self.cycle.response_complete
+        if self.flow.read_paused or (phase == "headers" and previous_running):
+            # the server is the slow side (reading paused, or a pipelined request waiting
+            # for the one before it): give the client a new period
+            self._arm(phase)
+            return
+        if phase == "body" and self.cycle is not None and self.cycle.response_started:
+            # answered already (e.g. 401 or 413 before the whole body came): just close
+            self.transport.close()
+            return
+        timeout = self.limits.header_timeout_s if phase == "headers" else self.limits.body_timeout_s
+        self._refuse(408, f"The request {phase} did not arrive within {timeout:g} s; the connection is closed.")
+
+    # ------------------------------------------------------------------ answers
+    def send_400_response(self, msg: str) -> None:
+        self._refuse(400, msg)
+
+    def _refuse(self, status: int, detail: str) -> None:
+        """Answer ``status`` with the JSON error body, half-close, and discard the rest."""
+        self._disarm()
+        self._refused = True
+        if self.cycle is not None and not self.cycle.response_complete:
+            if self.cycle.response_started:
+                self.transport.close()  # an answer is being written: cannot put one inside it
+                return
+            # the app of this (or an earlier pipelined) request still runs: it sees a
+            # disconnect, and nothing it sends is written
+            self.cycle.disconnected = True
+            self.cycle.message_event.set()
+        body = orjson.dumps({"detail": detail, "errors": []})
+        head = [STATUS_LINE[status]]
+        headers = [*self.server_state.default_headers, *SECURITY_HEADERS,
+                   (b"content-type", b"application/json"), (b"content-length", str(len(body)).encode()),
+                   (b"connection", b"close")]
+        for name, value in headers:
+            head += [name, b": ", value, b"\r\n"]
+        head += [b"\r\n", body]
+        self.transport.write(b"".join(head))
+        if self.transport.can_write_eof():
+            self.transport.write_eof()
+        self.flow.resume_reading()  # keep reading, to discard, so the client is not reset mid-write
+        self.loop.call_later(LINGER_S, self._close)
+
+    def _close(self) -> None:
+        if not self.transport.is_closing():
+            self.transport.close()

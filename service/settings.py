@@ -2,8 +2,18 @@
 
 from __future__ import annotations
 
-from pydantic import Field
+import re
+from typing import Any, Literal
+
+from pydantic import Field, ValidationError, field_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
+from pydantic_settings.exceptions import SettingsError
+
+ENV_PREFIX = "CAMCORE_"
+#: uvicorn's log levels (uvicorn.config.LOG_LEVELS)
+LogLevel = Literal["critical", "error", "warning", "info", "debug", "trace"]
+#: settings whose values are never echoed in an error message
+_SECRET_FIELDS = frozenset({"api_key"})
 
 
 class Settings(BaseSettings):
@@ -13,13 +23,21 @@ class Settings(BaseSettings):
     ``CAMCORE_PORT=9000`` or ``CAMCORE_MAX_TABLE_SAMPLES=50000``.
     """
 
-    model_config = SettingsConfigDict(env_prefix="CAMCORE_", extra="ignore")
+    model_config = SettingsConfigDict(env_prefix=ENV_PREFIX, extra="ignore")
 
     host: str = "127.0.0.1"
     port: int = Field(8000, ge=1, le=65535)
     workers: int = Field(1, ge=1, le=64)
-    log_level: str = "info"
+    log_level: LogLevel = "info"
     keep_alive_s: int = Field(30, ge=1, le=3600, description="idle keep-alive before the server closes a connection")
+
+    # transport (service/protocol.py): checked as the bytes arrive, before the app or the key check
+    max_header_bytes: int = Field(16 * 1024, ge=1024, le=1024 * 1024,
+                                  description="request line and headers together; larger is refused with 431")
+    max_url_bytes: int = Field(8 * 1024, ge=256, le=64 * 1024, description="request target; longer is refused with 414")
+    header_timeout_s: float = Field(10.0, gt=0, le=3600,
+                                    description="from connection (or the request's first byte) to the end of its headers; 408")
+    body_timeout_s: float = Field(20.0, gt=0, le=3600, description="from the end of the headers to the end of the body; 408")
 
     # limits: larger work is refused with 413 naming the limit
     max_body_bytes: int = Field(4 * 1024 * 1024, ge=1024)
@@ -46,3 +64,36 @@ class Settings(BaseSettings):
     # access control (off by default for local use)
     api_key: str | None = None
     cors_origins: list[str] = Field(default_factory=list)
+
+    @field_validator("log_level", mode="before")
+    @classmethod
+    def _lower_case_level(cls, value: Any) -> Any:
+        return value.lower() if isinstance(value, str) else value
+
+
+def environment_name(field: str) -> str:
+    return f"{ENV_PREFIX}{field.upper()}"
+
+
+def _shown(field: str, value: Any) -> str:
+    if field in _SECRET_FIELDS:
+        return ""
+    text = repr(value) if isinstance(value, str) else str(value)
+    return "=" + (text if len(text) <= 60 else text[:57] + "...")
+
+
+def settings_error_line(exc: ValidationError | SettingsError) -> str:
+    """One line naming each bad environment variable and what it allows, e.g.
+    ``CAMCORE_WORKERS=0 must be greater than or equal to 1``."""
+    if isinstance(exc, SettingsError):  # a complex value (a list) that is not JSON
+        match = re.search(r'field "(\w+)"', str(exc))
+        name = environment_name(match.group(1)) if match else "a CAMCORE_ variable"
+        cause = f" ({exc.__cause__})" if exc.__cause__ else ""
+        return f"{name} must be a JSON list, e.g. '[\"https://app.example\"]'{cause}"
+    parts = []
+    for error in exc.errors():
+        field = str(error["loc"][0]) if error["loc"] else ""
+        name = environment_name(field) if field else "the settings"
+        msg = error["msg"].replace("Input should be", "must be", 1)
+        parts.append(f"{name}{_shown(field, error.get('input')) if field else ''} {msg}")
+    return "; ".join(parts)

@@ -14,7 +14,7 @@ from uvicorn.config import Config
 from uvicorn.server import ServerState
 
 from service.main import app
-from service.protocol import NoDelayHttpToolsProtocol
+from service.protocol import LimitedHttpToolsProtocol
 
 
 class _Transport(asyncio.Transport):
@@ -46,9 +46,9 @@ def test_connection_gets_tcp_nodelay() -> None:
                 config.load()
 
                 async def connect() -> None:
-                    proto = NoDelayHttpToolsProtocol(config=config, server_state=ServerState(), app_state={})
+                    proto = LimitedHttpToolsProtocol(config=config, server_state=ServerState(), app_state={})
                     proto.connection_made(_Transport(served))
-                    proto.connection_lost(None)  # cancels its keep-alive timer
+                    proto.connection_lost(None)  # cancels its read timer
 
                 asyncio.run(connect())
                 assert served.getsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY) == 1
@@ -59,4 +59,4 @@ def test_the_service_runs_with_this_protocol() -> None:
     from pathlib import Path
 
     main = (Path(__file__).resolve().parents[2] / "service" / "__main__.py").read_text(encoding="utf-8")
-    assert "http=NoDelayHttpToolsProtocol" in main
+    assert "http=LimitedHttpToolsProtocol" in main

@@ -186,6 +186,27 @@ def test_settings_from_environment(monkeypatch: pytest.MonkeyPatch) -> None:
     assert settings.cors_origins == [ORIGIN, "http://localhost:3000"]
 
 
+async def test_nosniff_also_on_unexpected_errors_and_preflights() -> None:
+    """X-Content-Type-Options wraps the whole app: also the 500 that Starlette's outermost
+    error middleware sends, and CORS's own preflight answers."""
+    app = create_app(Settings(cors_origins=[ORIGIN]))
+
+    @app.get("/boom", include_in_schema=False)
+    async def boom() -> None:
+        raise RuntimeError("a bug")
+
+    transport = httpx.ASGITransport(app=app, raise_app_exceptions=False)
+    async with httpx.AsyncClient(transport=transport, base_url="http://testserver") as c:
+        r = await c.get("/boom")
+        assert r.status_code == 500 and r.json()["detail"] == "Internal error; it has been logged."
+        assert r.headers["x-content-type-options"] == "nosniff"
+        r = await c.options("/v1/curves/table", headers=preflight(ORIGIN))
+        assert r.status_code == 200 and r.headers["x-content-type-options"] == "nosniff"
+        # a plain OPTIONS (no preflight) is the router's 405, with every method of the path
+        r = await c.options("/v1/curves/table")
+        assert r.status_code == 405 and r.headers["allow"] == "GET, POST"
+
+
 def test_empty_key_means_off() -> None:
     app = build(Settings(api_key=""))
     assert APIKeyMiddleware not in {m.cls for m in app.user_middleware}
