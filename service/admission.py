@@ -134,9 +134,3 @@ class WorkGate:
         if failure is not None:
             raise failure
         return result
-
-    def stats(self) -> dict[str, float]:
-        return {"slots": self.slots, "admitted": self.admitted, "admitted_s": round(self.admitted_s, 3),
-                "refused_busy": self.refused_busy, "budget_s": self.budget_s,
-                "max_queued_s": self.max_queued_s, "deadline_s": self.deadline_s}
-

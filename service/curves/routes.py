@@ -123,14 +123,15 @@ async def _sampled_table(request: Request, gate: WorkGate, service: CurveService
                          csv: bool) -> Response:
     """A cached table, or a small one on a built curve, is answered on the event loop;
     other work goes through the gate; a large table is streamed."""
+    payload = service.table_if_cached(spec, samples, csv)  # a hit passed every limit when it was cached
+    if payload is not None:
+        return encoded_response(payload, csv)
     work = service.table_work(spec, samples, csv, ("samples",))
     if samples > service.settings.table_cache_max_rows:
         return table_response(await compute(request, gate, False, work, service.table_columns, spec, samples, None),
                               csv)
-    payload = service.table_if_cached(spec, samples, csv)
-    if payload is None:
-        payload = await compute(request, gate, service.is_quick_table(spec, samples), work, service.cached_table,
-                                spec, samples, csv)
+    payload = await compute(request, gate, service.is_quick_table(spec, samples), work, service.cached_table,
+                            spec, samples, csv)
     return encoded_response(payload, csv)
 
 

@@ -77,10 +77,15 @@ class CurveService:
         law = self.law(spec)
         work = curve_work(law, ("curve",)) + per_item_work(
             values, 2 * law.sample_s + encode_cost(INVERSE_COLUMNS, csv), field, f"{values} inverse lookups")
-        if method == "table":
-            rows = int(1.0 / table_step) + 1
-            work += per_item_work(rows, law.sample_s, ("table_step",), f"an inverse table of {rows} rows")
-        return work
+        return work + self.inverse_table_work(law, method, table_step)
+
+    @staticmethod
+    def inverse_table_work(law: LawCost, method: str, table_step: float) -> WorkEstimate:
+        """The catalog's table method samples a table at ``table_step`` first; exact: nothing."""
+        if method != "table":
+            return WorkEstimate()
+        rows = int(1.0 / table_step) + 1
+        return per_item_work(rows, law.sample_s, ("table_step",), f"an inverse table of {rows} rows")
 
     # ------------------------------------------------------------------ curves
     def curve(self, spec: CurveSpec, at: tuple[str | int, ...] = ("curve",)) -> Curve:

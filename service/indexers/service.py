@@ -9,7 +9,7 @@ import numpy as np
 import camcore
 from camcore.errors import NonMonotoneError
 from camcore.results import as_dict
-from camcore.work import WorkEstimate, per_item_work
+from camcore.work import WorkEstimate, curve_work, per_item_work
 from service.curves.service import CurveService
 from service.errors import within
 from service.indexers.specs import IndexerSpec, LoadSpec
@@ -32,7 +32,7 @@ class IndexerService:
     def motion_work(self, spec: IndexerSpec, samples: int, csv: bool) -> WorkEstimate:
         self.curves.check_limit("table samples", samples, self.curves.settings.max_table_samples, ("samples",))
         law = self.curves.law(spec.curve, at=("indexer", "curve"))
-        return self.curves.curve_work(spec.curve, ("indexer", "curve")) + per_item_work(
+        return curve_work(law, ("indexer", "curve")) + per_item_work(
             samples, law.sample_s + ROW_S + encode_cost(MOTION_COLUMNS, csv), ("samples",), f"{samples} table rows")
 
     def position_work(self, spec: IndexerSpec, angles: int, method: str, table_step: float,
@@ -40,13 +40,9 @@ class IndexerService:
         self.curves.check_limit("number of output angles", angles, self.curves.settings.max_inverse_points,
                                 ("output_angle_deg",))
         law = self.curves.law(spec.curve, at=("indexer", "curve"))
-        work = self.curves.curve_work(spec.curve, ("indexer", "curve")) + per_item_work(
+        return curve_work(law, ("indexer", "curve")) + per_item_work(
             angles, 2 * law.sample_s + ROW_S + encode_cost(MOTION_COLUMNS, csv), ("output_angle_deg",),
-            f"{angles} positions")
-        if method == "table":
-            rows = int(1.0 / table_step) + 1
-            work += per_item_work(rows, law.sample_s, ("table_step",), f"an inverse table of {rows} rows")
-        return work
+            f"{angles} positions") + self.curves.inverse_table_work(law, method, table_step)
 
     def sizing_work(self, spec: IndexerSpec) -> WorkEstimate:
         """Sizing: the curve, its characteristic values and the exact peaks (a few ms)."""

@@ -58,8 +58,7 @@ class ProfileService:
         """A profile and its answer (``answer``: json, csv or a contour format of camcore.export.FORMATS)."""
         n, field = self._sample_count(samples, cam_angle_deg)
         laws, work = self.laws(spec)
-        schedule = ("profile", "segments") if spec.segments is not None else ("profile", "lift")
-        work += profile_work(laws, n, schedule, field)
+        work += profile_work(laws, n, self._schedule_field(spec), field)
         if answer in export.FORMATS:
             seconds = export.FORMATS[answer].cost(n)
             return work + WorkEstimate((WorkTerm(field, f"writing {n} points as {answer}", seconds),))
@@ -74,8 +73,12 @@ class ProfileService:
         limits = int(max_pressure_angle_deg is not None and not flat) + int(min_radius_of_curvature_mm is not None
                                                                             or flat)
         laws, work = self.laws(spec)
-        schedule = ("profile", "segments") if spec.segments is not None else ("profile", "lift")
-        return work + base_circle_work(laws, limits, schedule)
+        return work + base_circle_work(laws, limits, self._schedule_field(spec))
+
+    @staticmethod
+    def _schedule_field(spec: ProfileSpec) -> tuple[str, ...]:
+        """The request field of the lift schedule: its segments, or its one lift curve."""
+        return ("profile", "segments") if spec.segments is not None else ("profile", "lift")
 
     def _sample_count(self, samples: int | None, cam_angle_deg: list[float] | None) -> tuple[int, tuple[str, ...]]:
         """How many cam angles, and which request field gives them (413 over the limit)."""
