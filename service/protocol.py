@@ -200,8 +200,10 @@ class LimitedHttpToolsProtocol(HttpToolsProtocol):
             return
         phase = self._read_phase
         previous_running = self.cycle is not None and not self.cycle.response_complete
-        if self.flow.read_paused or (phase == "headers" and previous_running):
-            # the server is the slow side (reading paused, or a pipelined request waiting
+        awaiting_continue = phase == "body" and self.cycle is not None and self.cycle.waiting_for_100_continue
+        if self.flow.read_paused or awaiting_continue or (phase == "headers" and previous_running):
+            # the server is the slow side (reading paused, a client waiting for the
+            # "100 Continue" the app has not asked for yet, or a pipelined request waiting
             # for the one before it): give the client a new period
             self._arm(phase)
             return
