@@ -11,7 +11,7 @@ Their answers carry the service's error body, ``{"detail": ..., "errors": []}``.
 from __future__ import annotations
 
 import email.message
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Iterator, Sequence
 from typing import Any
 
 import orjson
@@ -26,12 +26,11 @@ SECURITY_HEADERS: list[tuple[bytes, bytes]] = [(b"x-content-type-options", b"nos
 JSON_MEDIA_TYPE = "application/json"
 
 
-async def send_error(send: Send, status: int, detail: str, headers: Iterable[tuple[bytes, bytes]] = (),
-                     **extra: Any) -> None:
+async def send_error(send: Send, status: int, detail: str, **extra: Any) -> None:
     payload = orjson.dumps({"detail": detail, "errors": [], **extra})
     await send({"type": "http.response.start", "status": status,
                 "headers": [(b"content-type", b"application/json"),
-                            (b"content-length", str(len(payload)).encode()), *headers]})
+                            (b"content-length", str(len(payload)).encode())]})
     await send({"type": "http.response.body", "body": payload})
 
 

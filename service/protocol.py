@@ -22,7 +22,10 @@ bytes arrive, before the app (and so before the API-key check) sees the request:
   connection, after the request's first byte), or the body not complete ``body_timeout_s``
   after the headers → 408, or only closing when an answer has already started. The time a
   request waits with reading paused by the server (a pipelined request, a body the app has
-  not read yet) is not held against the client.
+  not read yet) is not held against the client;
+- an answer the client stops reading: when the transport's write buffer stays over its
+  high-water mark for ``write_timeout_s`` (the client read nothing that brought it back
+  under the low-water mark), the connection is reset: no answer can be sent any more.
 
 Each refusal is the service's JSON error body with ``Connection: close``. The server then
 stops reading requests, half-closes, and discards what the client still sends for at most
@@ -60,11 +63,12 @@ class TransportLimits:
     max_url_bytes: int
     header_timeout_s: float
     body_timeout_s: float
+    write_timeout_s: float
 
     @classmethod
     def from_settings(cls, settings: Settings) -> TransportLimits:
         return cls(settings.max_header_bytes, settings.max_url_bytes,
-                   settings.header_timeout_s, settings.body_timeout_s)
+                   settings.header_timeout_s, settings.body_timeout_s, settings.write_timeout_s)
 
 
 @functools.cache
@@ -89,6 +93,7 @@ class LimitedHttpToolsProtocol(HttpToolsProtocol):
         super().__init__(config, server_state, app_state, _loop)
         self.limits = limits or limits_from_environment()
         self._read_timer: TimerHandle | None = None
+        self._write_timer: TimerHandle | None = None
         self._read_phase: Phase = "headers"
         self._reading_headers = True  # the next bytes belong to a request line or headers
         self._header_bytes = 0  # bytes of the current request line and headers seen so far
@@ -104,6 +109,7 @@ class LimitedHttpToolsProtocol(HttpToolsProtocol):
 
     def connection_lost(self, exc: Exception | None) -> None:
         self._disarm()
+        self._stop_write_timer()
         super().connection_lost(exc)
 
     def data_received(self, data: bytes) -> None:
@@ -194,8 +200,10 @@ class LimitedHttpToolsProtocol(HttpToolsProtocol):
             return
         phase = self._read_phase
         previous_running = self.cycle is not None and not self.cycle.response_complete
-        if self.flow.read_paused or (phase == "headers" and previous_running):
-            # the server is the slow side (reading paused, or a pipelined request waiting
+        awaiting_continue = phase == "body" and self.cycle is not None and self.cycle.waiting_for_100_continue
+        if self.flow.read_paused or awaiting_continue or (phase == "headers" and previous_running):
+            # the server is the slow side (reading paused, a client waiting for the
+            # "100 Continue" the app has not asked for yet, or a pipelined request waiting
             # for the one before it): give the client a new period
             self._arm(phase)
             return
@@ -205,6 +213,28 @@ class LimitedHttpToolsProtocol(HttpToolsProtocol):
             return
         timeout = self.limits.header_timeout_s if phase == "headers" else self.limits.body_timeout_s
         self._refuse(408, f"The request {phase} did not arrive within {timeout:g} s; the connection is closed.")
+
+    def pause_writing(self) -> None:
+        super().pause_writing()
+        if self._write_timer is None:
+            self._write_timer = self.loop.call_later(self.limits.write_timeout_s, self._write_timed_out)
+
+    def resume_writing(self) -> None:
+        self._stop_write_timer()
+        super().resume_writing()
+
+    def _stop_write_timer(self) -> None:
+        if self._write_timer is not None:
+            self._write_timer.cancel()
+            self._write_timer = None
+
+    def _write_timed_out(self) -> None:
+        self._write_timer = None
+        if self.flow.write_paused:
+            # close() would wait to flush a buffer nobody reads: reset instead; the app's
+            # pending send returns (disconnected) when connection_lost runs
+            self.logger.info("Answer not read for %g s: connection reset.", self.limits.write_timeout_s)
+            self.transport.abort()
 
     # ------------------------------------------------------------------ answers
     def send_400_response(self, msg: str) -> None:

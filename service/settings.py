@@ -38,6 +38,8 @@ class Settings(BaseSettings):
     header_timeout_s: float = Field(10.0, gt=0, le=3600,
                                     description="from connection (or the request's first byte) to the end of its headers; 408")
     body_timeout_s: float = Field(20.0, gt=0, le=3600, description="from the end of the headers to the end of the body; 408")
+    write_timeout_s: float = Field(30.0, gt=0, le=3600,
+                                   description="an answer the client does not read for this long is dropped (connection reset)")
 
     # limits: larger work is refused with 413 naming the limit
     max_body_bytes: int = Field(4 * 1024 * 1024, ge=1024)
