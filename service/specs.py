@@ -16,13 +16,27 @@ from typing import Annotated, Any, Literal, Self
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, GetJsonSchemaHandler, PrivateAttr
 from pydantic.json_schema import JsonSchemaValue
-from pydantic_core import CoreSchema
+from pydantic_core import CoreSchema, PydanticCustomError
 
 #: magnitude bound for dimensionless inputs: far beyond any cam, small enough that
 #: squares and products of a few of them stay finite in float64
 BIG = 1e6
 
-Finite = Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]
+
+def _not_bool_or_text(value: object) -> object:
+    """A JSON number only: pydantic's lax mode would read true as 1 and "5" as 5, which the
+    OpenAPI document (type integer) refuses."""
+    if isinstance(value, bool | str):
+        raise PydanticCustomError("int_type", "Input should be a valid integer")  # pydantic's own words
+    return value
+
+
+#: Numbers of a request body are JSON numbers, as the document says: floats are strict (an
+#: integer is a number, true and "5" are not); an integer field refuses true and "5" with this,
+#: after its constraints: ``Annotated[int, Field(ge=1), JSON_INTEGER]`` (2.0 is an integer in
+#: JSON Schema, and stays one)
+JSON_INTEGER = BeforeValidator(_not_bool_or_text)
+Finite = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BIG)]
 Direction = Literal["rise", "return"]
 
 

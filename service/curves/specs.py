@@ -16,7 +16,7 @@ from camcore.curves.makino import MAKINO_BREAK_POINTS, MAKINO_SPECIAL
 from camcore.curves.polynomial import check_choice
 from camcore.curves.universal import check_break_points
 from service.models import answer_model
-from service.specs import BIG, Direction, Finite, Spec, absent, all_of, examples, given, not_both, rule
+from service.specs import BIG, JSON_INTEGER, Direction, Finite, Spec, absent, all_of, examples, given, not_both, rule
 
 #: the guide's worked examples (INDEXMAN technical guide): the MS curve, Makino's universal
 #: curve with MS's break points (Makino 1977, No. 26)
@@ -89,11 +89,11 @@ class MakinoCurveSpec(CurveKindSpec):
     model_config = examples({"type": "makino", "number": 4, "t1": 0.0625, "t3": 0.25}, {"type": "makino", "number": 26},
                             rules=_makino_rules())
     type: Literal["makino"] = "makino"
-    number: int = Field(ge=1, le=99, examples=[4])
-    z: Annotated[float, Field(allow_inf_nan=False, gt=0, le=1)] | None = None
-    t4: Annotated[float, Field(allow_inf_nan=False, ge=0, lt=1)] | None = None
-    t1: Annotated[float, Field(allow_inf_nan=False, gt=0, le=0.5)] | None = Field(None, examples=[0.0625])
-    t3: Annotated[float, Field(allow_inf_nan=False, gt=0, le=0.5)] | None = Field(None, examples=[0.25])
+    number: Annotated[int, Field(ge=1, le=99), JSON_INTEGER] = Field(examples=[4])
+    z: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=1)] | None = None
+    t4: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, lt=1)] | None = None
+    t1: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=0.5)] | None = Field(None, examples=[0.0625])
+    t3: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=0.5)] | None = Field(None, examples=[0.25])
     direction: Direction = "rise"
 
 
@@ -157,8 +157,8 @@ class BezierCurveSpec(CurveKindSpec):
 
     model_config = examples({"type": "bezier", "control_points": [[0, 0], [30, 0], [60, 10], [90, 10]]})
     type: Literal["bezier"] = "bezier"
-    control_points: list[tuple[Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)],
-                               Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]]] = Field(
+    control_points: list[tuple[Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BIG)],
+                               Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BIG)]]] = Field(
         min_length=2, description="[[theta_deg, h], ...], θ increasing along the curve (the lift a function of θ)",
         examples=[[[0, 0], [30, 0], [60, 10], [90, 10]]])
     direction: Direction = "rise"
@@ -202,7 +202,8 @@ class TableRequest(Spec):
     model_config = examples({"curve": MS_SPEC, "samples": 101},
                             rules=[rule("give either samples or t, not both", not_both("samples", "t"))])
     curve: CurveSpec
-    samples: int | None = Field(None, ge=2, description="evenly spaced over [T0, T7], both ends included")
+    samples: Annotated[int, Field(ge=2), JSON_INTEGER] | None = Field(
+        None, description="evenly spaced over [T0, T7], both ends included")
     # minItems states the validator's rule in the schema (the validator gives the sentence)
     t: Annotated[list[Finite], Field(json_schema_extra={"minItems": 1})] | None = Field(
         None, description="explicit times T instead of samples")
@@ -223,10 +224,10 @@ class InverseRequest(Spec):
     curve: CurveSpec
     s: list[Finite] = Field(min_length=1, description="displacements S to look up")
     method: Literal["exact", "table"] = "exact"
-    table_step: Annotated[float, Field(allow_inf_nan=False, ge=1e-4, le=0.5)] = Field(
+    table_step: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-4, le=0.5)] = Field(
         0.01, description="row step of the table (method = table)")
-    table_decimals: int | None = Field(
-        None, ge=0, le=15, description="round the table as printed (the catalog prints 5)")
+    table_decimals: Annotated[int, Field(ge=0, le=15), JSON_INTEGER] | None = Field(
+        None, description="round the table as printed (the catalog prints 5)")
 
 
 #: request examples of the POST operations (Swagger UI pre-fills the first); numbers from the guide

@@ -13,6 +13,7 @@ from service.curves.specs import MS_SPEC, BezierCurveSpec, CurveSpec, PointsCurv
 from service.models import answer_model
 from service.specs import (
     BIG,
+    JSON_INTEGER,
     DefaultsInDescriptions,
     Spec,
     absent,
@@ -25,8 +26,8 @@ from service.specs import (
     rule,
 )
 
-Length = Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]
-PositiveLength = Annotated[float, Field(allow_inf_nan=False, gt=0, le=BIG)]
+Length = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BIG)]
+PositiveLength = Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=BIG)]
 
 #: a roller cam, rise–dwell–return–dwell: 20 mm over 120° (MS), 60° dwell, return, 60° dwell
 ROLLER_PROFILE_EXAMPLE: dict[str, object] = {
@@ -60,7 +61,7 @@ class FollowerSpec(Spec):
     type: Literal["knife-edge", "roller", "flat-faced"] = "knife-edge"
     motion: Literal["translating", "oscillating"] = "translating"
     offset_mm: Length = Field(0.0, description="offset e of a translating follower's line of motion")
-    roller_radius_mm: Annotated[float, Field(allow_inf_nan=False, ge=0, le=BIG)] = 0.0
+    roller_radius_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, le=BIG)] = 0.0
     arm_length_mm: PositiveLength | None = Field(None, description="oscillating: pivot to contact")
     pivot_distance_mm: PositiveLength | None = Field(None, description="oscillating: cam centre to pivot")
 
@@ -86,9 +87,9 @@ class SegmentSpec(Spec):
                     {"not": {"required": ["curve"], "properties": {"curve": {
                         "type": "object", "required": ["direction"], "properties": {"direction": {"const": "return"}}}}}})])
     type: Literal["rise", "dwell", "return"]
-    angle_deg: Annotated[float, Field(allow_inf_nan=False, gt=0, le=360)]
-    lift_mm: Annotated[float, Field(allow_inf_nan=False, ge=0, le=BIG)] | None = None
-    swing_deg: Annotated[float, Field(allow_inf_nan=False, ge=0, le=180)] | None = None
+    angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=360)]
+    lift_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, le=BIG)] | None = None
+    swing_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, le=180)] | None = None
     curve: CurveSpec | None = Field(None, description="the rise law (a return plays it backwards); default cycloid")
 
     @model_validator(mode="after")
@@ -123,7 +124,7 @@ class ProfileSpec(Spec):
     follower: FollowerSpec
     base_radius_mm: PositiveLength
     rotation: Literal["ccw", "cw"] = "ccw"
-    rotation_ratio: Annotated[float, Field(allow_inf_nan=False, gt=0, le=1000)] = Field(
+    rotation_ratio: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=1000)] = Field(
         1.0, description="cam turns per drive-shaft turn")
     segments: list[SegmentSpec] | None = Field(None, min_length=1, max_length=360)
     lift: Annotated[BezierCurveSpec | PointsCurveSpec, Field(discriminator="type")] | None = Field(
@@ -155,9 +156,9 @@ class ProfileRequest(Spec):
         {"profile": ROLLER_PROFILE_EXAMPLE, "samples": 361},
         rules=[rule("give either samples or cam_angle_deg, not both", not_both("samples", "cam_angle_deg"))])
     profile: ProfileSpec
-    samples: int | None = Field(None, ge=2, description="evenly over 0–360° of cam angle, both ends included")
+    samples: Annotated[int, Field(ge=2), JSON_INTEGER] | None = Field(None, description="evenly over 0–360° of cam angle, both ends included")
     # minItems states the validator's rule in the schema (the validator gives the sentence)
-    cam_angle_deg: Annotated[list[Annotated[float, Field(allow_inf_nan=False, ge=-1e5, le=1e5)]],
+    cam_angle_deg: Annotated[list[Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-1e5, le=1e5)]],
                              Field(json_schema_extra={"minItems": 1})] | None = None
 
     @model_validator(mode="after")
@@ -178,8 +179,8 @@ class BaseCircleRequest(Spec):
                     {"if": {"properties": {"profile": {"properties": {"follower": NOT_FLAT_FACED}}}},
                      "then": {"anyOf": [given("max_pressure_angle_deg"), given("min_radius_of_curvature_mm")]}})])
     profile: ProfileSpec
-    max_pressure_angle_deg: Annotated[float, Field(allow_inf_nan=False, gt=0, lt=90)] | None = None
-    min_radius_of_curvature_mm: Annotated[float, Field(allow_inf_nan=False, ge=0, le=BIG)] | None = None
+    max_pressure_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, lt=90)] | None = None
+    min_radius_of_curvature_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, le=BIG)] | None = None
 
     @model_validator(mode="after")
     def _check(self) -> BaseCircleRequest:
