@@ -1,27 +1,42 @@
-"""What every request spec shares: the base class, bounded finite numbers, examples.
+"""What every request spec shares: the base class, bounded finite numbers, examples, rules.
 
 Every number is bounded and finite; cross-field rules are checked in validators that
 say, in a sentence, what is wrong (calling camcore's own checks where camcore has the
-rule). Sizes that depend on the configured limits (table samples, inverse list lengths,
-Bezier degree, point counts) are checked by the service layer, which answers 413
+rule), and the OpenAPI document states the same rules where JSON Schema can (see
+:func:`examples`). Sizes that depend on the configured limits (table samples, inverse list
+lengths, Bezier degree, point counts) are checked by the service layer, which answers 413
 naming the limit.
 """
 
 from __future__ import annotations
 
 import json
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Annotated, Any, Literal, Self
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, GetJsonSchemaHandler, PrivateAttr
 from pydantic.json_schema import JsonSchemaValue
-from pydantic_core import CoreSchema
+from pydantic_core import CoreSchema, PydanticCustomError
 
 #: magnitude bound for dimensionless inputs: far beyond any cam, small enough that
 #: squares and products of a few of them stay finite in float64
 BIG = 1e6
 
-Finite = Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]
+
+def _not_bool_or_text(value: object) -> object:
+    """A JSON number only: pydantic's lax mode would read true as 1 and "5" as 5, which the
+    OpenAPI document (type integer) refuses."""
+    if isinstance(value, bool | str):
+        raise PydanticCustomError("int_type", "Input should be a valid integer")  # pydantic's own words
+    return value
+
+
+#: Numbers of a request body are JSON numbers, as the document says: floats are strict (an
+#: integer is a number, true and "5" are not); an integer field refuses true and "5" with this,
+#: after its constraints: ``Annotated[int, Field(ge=1), JSON_INTEGER]`` (2.0 is an integer in
+#: JSON Schema, and stays one)
+JSON_INTEGER = BeforeValidator(_not_bool_or_text)
+Finite = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BIG)]
 Direction = Literal["rise", "return"]
 
 
@@ -95,8 +110,67 @@ class Spec(DefaultsInDescriptions):
         return copy
 
 
-def examples(*values: dict[str, Any]) -> ConfigDict:
+def examples(*values: dict[str, Any], rules: Sequence[dict[str, Any]] = ()) -> ConfigDict:
     """A model's complete, valid examples, for the OpenAPI document: tools that build a body
     from the schema (Swagger UI's "Try it out" when an operation has no example of its own)
-    take the first, instead of combining field examples into a contradiction."""
-    return ConfigDict(json_schema_extra={"examples": list(values)})
+    take the first, instead of combining field examples into a contradiction.
+
+    ``rules`` are the model's cross-field rules as JSON Schema (made with :func:`rule`), stated
+    under ``allOf`` so that a client or a schema-driven fuzzer builds only bodies the
+    validators accept. The validators stay: they give the 422 its sentence. Rules JSON Schema
+    cannot state (numbers compared with each other, geometry) are said in descriptions only.
+
+    Each rule is written with ``if``/``then``/``else`` and ``not`` only, at its top: the client
+    generators read ``properties``, ``required``, ``oneOf`` and ``anyOf`` in an ``allOf`` member
+    as part of the type (openapi-python-client merges them into the model, openapi-typescript
+    turns them into unions that refuse valid bodies), and leave these keywords alone.
+    """
+    extra: dict[str, Any] = {"examples": list(values)}
+    if rules:
+        extra["allOf"] = list(rules)
+    return ConfigDict(json_schema_extra=extra)
+
+
+# ----------------------------------------------------------------------------- cross-field rules
+# Building blocks of the rules' JSON Schema. An optional field also takes null, and the
+# validators read null as "not given", so "given" means present and not null.
+
+def rule(description: str, schema: dict[str, Any]) -> dict[str, Any]:
+    """One cross-field rule: its JSON Schema, with the validator's sentence as description."""
+    return {"description": description, **schema}
+
+
+def given(*names: str) -> dict[str, Any]:
+    """Each of the fields is present and not null."""
+    return {"required": list(names), "properties": {name: {"not": {"type": "null"}} for name in names}}
+
+
+def absent(*names: str) -> dict[str, Any]:
+    """None of the fields is given: each is missing or null."""
+    return {"properties": {name: {"type": "null"} for name in names}}
+
+
+def one_of_values(name: str, *values: Any, default: Any = None) -> dict[str, Any]:
+    """The field is one of the values; a missing field counts as its default."""
+    condition: dict[str, Any] = {"properties": {name: {"enum": list(values)}}}
+    if default not in values:
+        condition["required"] = [name]
+    return condition
+
+
+def all_of(*schemas: dict[str, Any]) -> dict[str, Any]:
+    return {"allOf": list(schemas)}
+
+
+def exactly_one(first: str, second: str) -> dict[str, Any]:
+    """One of the two fields is given, not both."""
+    return {"if": given(first), "then": absent(second), "else": given(second)}
+
+
+def together(first: str, second: str) -> dict[str, Any]:
+    """Both fields are given, or neither."""
+    return {"if": given(first), "then": given(second), "else": absent(second)}
+
+
+def not_both(first: str, second: str) -> dict[str, Any]:
+    return {"not": given(first, second)}

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from fractions import Fraction
 
 import numpy as np
 from numpy.polynomial import Polynomial
@@ -83,6 +84,22 @@ def named_polynomial(name: str) -> PolynomialCurve:
     return PolynomialCurve(NAMED_POLYNOMIALS[name])
 
 
+def _singular(matrix: NDArray[np.float64]) -> bool:
+    """Whether the square matrix of whole numbers is singular, decided exactly (fractions, not floats:
+    rounding could hide a zero pivot and give a polynomial of huge coefficients instead)."""
+    rows = [[Fraction(int(x)) for x in row] for row in matrix]
+    n = len(rows)
+    for col in range(n):
+        pivot = next((r for r in range(col, n) if rows[r][col] != 0), None)
+        if pivot is None:
+            return True
+        rows[col], rows[pivot] = rows[pivot], rows[col]
+        for r in range(col + 1, n):
+            factor = rows[r][col] / rows[col][col]
+            rows[r] = [x - factor * y for x, y in zip(rows[r], rows[col], strict=True)]
+    return False
+
+
 def polynomial_from_boundary(start: Mapping[str, float | None], end: Mapping[str, float | None]) -> PolynomialCurve:
     """The polynomial of least degree meeting the given end conditions.
 
@@ -100,7 +117,8 @@ def polynomial_from_boundary(start: Mapping[str, float | None], end: Mapping[str
     Raises
     ------
     InvalidParameterError
-        S missing at an end, or a non-finite condition.
+        S missing at an end, a non-finite condition, or conditions that do not determine one
+        polynomial (its equations not independent, e.g. J the only condition beyond S).
 
     References
     ----------
@@ -127,6 +145,10 @@ def polynomial_from_boundary(start: Mapping[str, float | None], end: Mapping[str
         for k in range(order, n):
             # d^order/dT^order of T^k at T = where
             matrix[i, k] = math.perm(k, order) * (where ** (k - order) if k > order else 1.0)
+    if _singular(matrix):
+        raise InvalidParameterError(
+            f"these boundary conditions do not determine a polynomial of degree {n - 1}: its {n} equations are not "
+            "independent (e.g. j the only condition beyond s); give lower-order conditions (v, a) too.")
     coef = np.linalg.solve(matrix, np.array(rhs))
     return PolynomialCurve(coef)
 

@@ -6,14 +6,17 @@ from __future__ import annotations
 from typing import Annotated, Any, Literal
 
 from fastapi.openapi.models import Example
-from pydantic import BaseModel, Field, model_validator
+from pydantic import BaseModel, Field, GetJsonSchemaHandler, model_validator
+from pydantic.json_schema import JsonSchemaValue
+from pydantic_core import CoreSchema
 
 from camcore.curves import Characteristics
 from camcore.curves.kinds import POLYNOMIAL_NAMES
+from camcore.curves.makino import MAKINO_BREAK_POINTS, MAKINO_SPECIAL
 from camcore.curves.polynomial import check_choice
 from camcore.curves.universal import check_break_points
 from service.models import answer_model
-from service.specs import BIG, Direction, Finite, Spec, examples
+from service.specs import BIG, JSON_INTEGER, Direction, Finite, Spec, absent, all_of, examples, given, not_both, rule
 
 #: the guide's worked examples (INDEXMAN technical guide): the MS curve, Makino's universal
 #: curve with MS's break points (Makino 1977, No. 26)
@@ -25,6 +28,15 @@ UNIVERSAL_MS_SPEC: dict[str, Any] = {"type": "universal", "t": [0, 0.125, 0.125,
 class CurveKindSpec(Spec):
     """A curve spec: its ``type`` is a kind of camcore.curves.kinds.CURVE_KINDS, its other
     fields (but ``direction``) are that kind's parameters."""
+
+    @classmethod
+    def __get_pydantic_json_schema__(cls, core_schema: CoreSchema, handler: GetJsonSchemaHandler) -> JsonSchemaValue:
+        # a request always takes a curve spec through the CurveSpec union, whose discriminator
+        # needs the tag: in JSON, ``type`` is required (its default serves Python callers only)
+        schema = super().__get_pydantic_json_schema__(core_schema, handler)
+        target = handler.resolve_ref_schema(schema)
+        target["required"] = ["type", *(name for name in target.get("required", []) if name != "type")]
+        return schema
 
     def parameters(self) -> dict[str, Any]:
         """The kind's parameters, as camcore's builder takes them."""
@@ -42,20 +54,46 @@ class NamedCurveSpec(CurveKindSpec):
     direction: Direction = "rise"
 
 
+MAKINO_PARAMETERS = ("z", "t4", "t1", "t3")
+#: a curve's own bound on a parameter, beyond the field's: trapecloid II's T2 = (2 − 6·T1 + π·T1)/(2 + π)
+#: must not fall below T1, which is T1 ≤ 1/4 (its T3 ≤ 1 − T1 holds to T1 ≤ π/(3π − 2) ≈ 0.41)
+MAKINO_PARAMETER_BOUNDS: dict[int, dict[str, dict[str, float]]] = {36: {"t1": {"maximum": 0.25}}}
+
+
+def _makino_rules() -> list[dict[str, Any]]:
+    """camcore's table of Makino's numbers and the parameters each needs and takes, as rules."""
+    rules = []
+    for number, special in sorted(MAKINO_SPECIAL.items()):
+        takes = special.parameters + special.optional
+        needs = f"needs {', '.join(special.parameters)}" if special.parameters else f"takes {', '.join(takes)}"
+        then = all_of(*([given(*special.parameters)] if special.parameters else []),
+                      absent(*(p for p in MAKINO_PARAMETERS if p not in takes)),
+                      {"properties": MAKINO_PARAMETER_BOUNDS.get(number, {})})
+        rules.append(rule(f"Makino curve {number} {needs} and no other parameter",
+                          {"if": {"properties": {"number": {"const": number}}}, "then": then}))
+    rules.append(rule("any other number is one of Makino's table 2 (or 11), which take no parameters",
+                      {"if": {"properties": {"number": {"not": {"enum": sorted(MAKINO_SPECIAL)}}}},
+                       "then": all_of({"properties": {"number": {"enum": sorted(MAKINO_BREAK_POINTS)}}},
+                                      absent(*MAKINO_PARAMETERS))}))
+    return rules
+
+
 class MakinoCurveSpec(CurveKindSpec):
     """Makino's curve by classification number, with its own parameters.
 
     1: ``z`` (0 < z ≤ 1); 2: ``t4`` (0 ≤ T4 < 1); 4: ``t1``, ``t3`` (0 < T1 ≤ T3 ≤ 0.5);
-    36: optional ``t1``; table-2 numbers take none.
+    36: optional ``t1`` (0 < T1 ≤ 1/4);
+    the numbers of Makino's table 2 and 11 take none.
     """
 
-    model_config = examples({"type": "makino", "number": 4, "t1": 0.0625, "t3": 0.25}, {"type": "makino", "number": 26})
+    model_config = examples({"type": "makino", "number": 4, "t1": 0.0625, "t3": 0.25}, {"type": "makino", "number": 26},
+                            rules=_makino_rules())
     type: Literal["makino"] = "makino"
-    number: int = Field(ge=1, le=99, examples=[4])
-    z: Annotated[float, Field(allow_inf_nan=False, gt=0, le=1)] | None = None
-    t4: Annotated[float, Field(allow_inf_nan=False, ge=0, lt=1)] | None = None
-    t1: Annotated[float, Field(allow_inf_nan=False, gt=0, le=0.5)] | None = Field(None, examples=[0.0625])
-    t3: Annotated[float, Field(allow_inf_nan=False, gt=0, le=0.5)] | None = Field(None, examples=[0.25])
+    number: Annotated[int, Field(ge=1, le=99), JSON_INTEGER] = Field(examples=[4])
+    z: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=1)] | None = None
+    t4: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, lt=1)] | None = None
+    t1: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=0.5)] | None = Field(None, examples=[0.0625])
+    t3: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=0.5)] | None = Field(None, examples=[0.25])
     direction: Direction = "rise"
 
 
@@ -63,9 +101,11 @@ class UniversalCurveSpec(CurveKindSpec):
     """Makino's universal cam curve directly: break points and end conditions."""
 
     model_config = examples(UNIVERSAL_MS_SPEC,
-                            {"type": "universal", "t": [0, 0.2, 0.2, 0.4, 0.4, 0.7, 0.7, 1], "m": 0.5})
+                            {"type": "universal", "t": [0, 0.2, 0.2, 0.4, 0.4, 0.7, 0.7, 1], "m": 0.5},
+                            rules=[rule("give either m or v7, not both: with m fixed, V7 is a result",
+                                        not_both("m", "v7"))])
     type: Literal["universal"] = "universal"
-    t: list[Finite] = Field(min_length=8, max_length=8, description="break points T0..T7",
+    t: list[Finite] = Field(min_length=8, max_length=8, description="break points T0 ≤ T1 ≤ … ≤ T7, T7 > T0",
                             examples=[[0, 0.125, 0.125, 0.5, 0.5, 0.875, 0.875, 1]])
     m: Finite | None = Field(None, description="Amm/Amp; omitted = solved so that the curve ends at V7")
     v0: Finite = 0.0
@@ -96,7 +136,10 @@ class PolynomialCurveSpec(CurveKindSpec):
     """A polynomial law by name, or the least-degree polynomial meeting end conditions."""
 
     model_config = examples({"type": "polynomial", "name": "3-4-5"},
-                            {"type": "polynomial", "start": {"s": 0, "v": 0, "a": 0}, "end": {"s": 1, "v": 0, "a": 0}})
+                            {"type": "polynomial", "start": {"s": 0, "v": 0, "a": 0}, "end": {"s": 1, "v": 0, "a": 0}},
+                            rules=[rule("give a polynomial name, or both start and end boundary conditions, not both",
+                                        {"if": given("name"), "then": absent("start", "end"),
+                                         "else": given("start", "end")})])
     type: Literal["polynomial"] = "polynomial"
     name: Literal[POLYNOMIAL_NAMES] | None = None  # type: ignore[valid-type]  # the registry's names
     start: BoundaryConditions | None = None
@@ -114,9 +157,9 @@ class BezierCurveSpec(CurveKindSpec):
 
     model_config = examples({"type": "bezier", "control_points": [[0, 0], [30, 0], [60, 10], [90, 10]]})
     type: Literal["bezier"] = "bezier"
-    control_points: list[tuple[Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)],
-                               Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]]] = Field(
-        min_length=2, description="[[theta_deg, h], ...], θ increasing along the curve",
+    control_points: list[tuple[Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BIG)],
+                               Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BIG)]]] = Field(
+        min_length=2, description="[[theta_deg, h], ...], θ increasing along the curve (the lift a function of θ)",
         examples=[[[0, 0], [30, 0], [60, 10], [90, 10]]])
     direction: Direction = "rise"
 
@@ -127,8 +170,8 @@ class PointsCurveSpec(CurveKindSpec):
     model_config = examples({"type": "points", "t": [0, 10, 20, 30, 40], "s": [0, 1, 4, 7, 8]})
     type: Literal["points"] = "points"
     t: list[Finite] = Field(min_length=2, description="strictly increasing", examples=[[0, 10, 20, 30, 40]])
-    s: list[Finite] = Field(min_length=2, examples=[[0, 1, 4, 7, 8]])
-    v: list[Finite] | None = Field(None, description="optional slopes ds/dt at the points")
+    s: list[Finite] = Field(min_length=2, description="as many as t", examples=[[0, 1, 4, 7, 8]])
+    v: list[Finite] | None = Field(None, description="optional slopes ds/dt at the points, as many as t")
     direction: Direction = "rise"
 
     @model_validator(mode="after")
@@ -156,10 +199,14 @@ class CharacteristicsRequest(Spec):
 
 
 class TableRequest(Spec):
-    model_config = examples({"curve": MS_SPEC, "samples": 101})
+    model_config = examples({"curve": MS_SPEC, "samples": 101},
+                            rules=[rule("give either samples or t, not both", not_both("samples", "t"))])
     curve: CurveSpec
-    samples: int | None = Field(None, ge=2, description="evenly spaced over [T0, T7], both ends included")
-    t: list[Finite] | None = Field(None, description="explicit times T instead of samples")
+    samples: Annotated[int, Field(ge=2), JSON_INTEGER] | None = Field(
+        None, description="evenly spaced over [T0, T7], both ends included")
+    # minItems states the validator's rule in the schema (the validator gives the sentence)
+    t: Annotated[list[Finite], Field(json_schema_extra={"minItems": 1})] | None = Field(
+        None, description="explicit times T instead of samples")
 
     @model_validator(mode="after")
     def _check(self) -> TableRequest:
@@ -177,10 +224,10 @@ class InverseRequest(Spec):
     curve: CurveSpec
     s: list[Finite] = Field(min_length=1, description="displacements S to look up")
     method: Literal["exact", "table"] = "exact"
-    table_step: Annotated[float, Field(allow_inf_nan=False, ge=1e-4, le=0.5)] = Field(
+    table_step: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-4, le=0.5)] = Field(
         0.01, description="row step of the table (method = table)")
-    table_decimals: int | None = Field(
-        None, ge=0, le=15, description="round the table as printed (the catalog prints 5)")
+    table_decimals: Annotated[int, Field(ge=0, le=15), JSON_INTEGER] | None = Field(
+        None, description="round the table as printed (the catalog prints 5)")
 
 
 #: request examples of the POST operations (Swagger UI pre-fills the first); numbers from the guide

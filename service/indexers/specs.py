@@ -11,11 +11,11 @@ from camcore.indexer import IndexerPosition, LoadPart, MotionSummary, MotionTabl
 from camcore.indexer.kinematics import check_alternatives, check_total_indexing_angle
 from service.curves.specs import MS_SPEC, CurveSpec, NamedCurveSpec
 from service.models import answer_model
-from service.specs import BIG, Spec, examples
+from service.specs import BIG, JSON_INTEGER, Spec, exactly_one, examples, given, not_both, one_of_values, rule, together
 
 #: physical lower bounds: a subnormal speed or time would make th² underflow to zero
-Positive = Annotated[float, Field(allow_inf_nan=False, ge=1e-6, le=BIG)]
-NonNegative = Annotated[float, Field(allow_inf_nan=False, ge=0, le=BIG)]
+Positive = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-6, le=BIG)]
+NonNegative = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, le=BIG)]
 
 #: the guide's worked example: 6 stops, θh = 270°, MS, 60 rpm (INDEXMAN technical guide)
 INDEXER_EXAMPLE: dict[str, object] = {"stops": 6, "indexing_angle_deg": 270, "speed_rpm": 60, "curve": MS_SPEC}
@@ -25,15 +25,24 @@ LOAD_EXAMPLE: dict[str, object] = {"parts": [{"shape": "disc", "mass_kg": 50, "d
 
 
 class IndexerSpec(Spec):
-    """A cam indexer (stops) or oscillating unit (swing angle) at constant input speed."""
+    """A cam indexer (stops) or oscillating unit (swing angle) at constant input speed.
 
-    model_config = examples(INDEXER_EXAMPLE)
-    stops: int | None = Field(None, ge=1, le=100_000, description="n, stops per output turn")
-    swing_angle_deg: Annotated[float, Field(allow_inf_nan=False, ge=1e-6, le=360)] | None = Field(
+    The total indexing angle θt = θh·z (indexing_angle_deg × dwells) is at most 360°.
+    """
+
+    # check_alternatives' rules
+    model_config = examples(
+        INDEXER_EXAMPLE,
+        rules=[rule("give exactly one of stops (n) and swing_angle_deg (ψ, oscillating units)",
+                    exactly_one("stops", "swing_angle_deg")),
+               rule("give exactly one of speed_rpm (N) and cycle_time_s (t0 = 60/(N·z))",
+                    exactly_one("speed_rpm", "cycle_time_s"))])
+    stops: Annotated[int, Field(ge=1, le=100_000), JSON_INTEGER] | None = Field(None, description="n, stops per output turn")
+    swing_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-6, le=360)] | None = Field(
         None, description="ψ, output swing of an oscillating unit (instead of stops)")
-    indexing_angle_deg: Annotated[float, Field(allow_inf_nan=False, ge=1e-6, le=360)] = Field(
+    indexing_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-6, le=360)] = Field(
         description="θh, input angle per index")
-    dwells: int = Field(1, ge=1, le=360, description="z, indexes per input turn")
+    dwells: Annotated[int, Field(ge=1, le=360), JSON_INTEGER] = Field(1, description="z, indexes per input turn")
     speed_rpm: Positive | None = Field(None, description="N, input speed")
     cycle_time_s: Positive | None = Field(None, description="t0, unit cycle time (instead of speed_rpm)")
     input_stop_time_s: NonNegative = Field(0.0, description="ts, input stands still each index")
@@ -47,10 +56,22 @@ class IndexerSpec(Spec):
         return self
 
 
-class LoadPartSpec(Spec):
-    """A part of the load; its own axis is offset_mm from the output axis."""
+#: the dimensions each shape needs (camcore's LoadPart checks the same; the agreement is tested)
+SHAPE_NEEDS: dict[str, tuple[str, ...]] = {"disc": ("diameter_mm",), "ring": ("diameter_mm", "inner_diameter_mm"),
+                                            "block": ("a_mm", "b_mm"), "point": ()}
 
-    model_config = examples({"shape": "disc", "mass_kg": 50, "diameter_mm": 600})
+
+class LoadPartSpec(Spec):
+    """A part of the load; its own axis is offset_mm from the output axis.
+
+    A disc needs diameter_mm, a ring diameter_mm and inner_diameter_mm (inner ≤ outer), a
+    block a_mm and b_mm; a point needs none.
+    """
+
+    model_config = examples(
+        {"shape": "disc", "mass_kg": 50, "diameter_mm": 600},
+        rules=[rule(f"a {shape} part needs {', '.join(needs)}", {"if": one_of_values("shape", shape), "then": given(*needs)})
+               for shape, needs in SHAPE_NEEDS.items() if needs])
     shape: Literal["disc", "ring", "block", "point"]
     mass_kg: NonNegative
     diameter_mm: NonNegative | None = None
@@ -58,7 +79,7 @@ class LoadPartSpec(Spec):
     a_mm: NonNegative | None = None
     b_mm: NonNegative | None = None
     offset_mm: NonNegative = 0.0
-    count: int = Field(1, ge=1, le=100_000)
+    count: Annotated[int, Field(ge=1, le=100_000), JSON_INTEGER] = 1
 
     @model_validator(mode="after")
     def _check(self) -> LoadPartSpec:
@@ -69,15 +90,25 @@ class LoadPartSpec(Spec):
 class LoadSpec(Spec):
     """What the output drives: inertia, friction, work torque, service factor, efficiency."""
 
-    model_config = examples(LOAD_EXAMPLE)
+    model_config = examples(
+        LOAD_EXAMPLE,
+        rules=[rule("friction_coefficient and friction_radius_mm go together (Tf = μ·m·g·R)",
+                    together("friction_coefficient", "friction_radius_mm")),
+               rule("give friction as friction_coefficient with friction_radius_mm, or friction_torque_nm, not both",
+                    not_both("friction_coefficient", "friction_torque_nm")),
+               rule("friction_coefficient needs parts with mass_kg (friction torque μ·m·g·R uses the parts' masses)",
+                    {"if": given("friction_coefficient"),
+                     "then": {"required": ["parts"], "properties": {"parts": {"minItems": 1}}}}),
+               rule("accuracy_arc_seconds and accuracy_radius_mm go together",
+                    together("accuracy_arc_seconds", "accuracy_radius_mm"))])
     inertia_kgm2: NonNegative = Field(0.0, description="given directly, added to the parts")
     parts: list[LoadPartSpec] = Field(default_factory=list, max_length=1000)
     friction_coefficient: NonNegative | None = Field(None, description="μ, with friction_radius_mm")
     friction_radius_mm: NonNegative | None = None
     friction_torque_nm: NonNegative | None = None
     work_torque_nm: NonNegative = 0.0
-    service_factor: Annotated[float, Field(allow_inf_nan=False, ge=1, le=100)] = 1.5
-    efficiency: Annotated[float, Field(allow_inf_nan=False, gt=0, le=1)] = 1.0
+    service_factor: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1, le=100)] = 1.5
+    efficiency: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=1)] = 1.0
     accuracy_arc_seconds: NonNegative | None = Field(None, description="with accuracy_radius_mm: arc-seconds → mm")
     accuracy_radius_mm: NonNegative | None = None
 
@@ -95,16 +126,16 @@ class LoadSpec(Spec):
 class MotionRequest(Spec):
     model_config = examples({"indexer": INDEXER_EXAMPLE, "samples": 101})
     indexer: IndexerSpec
-    samples: int = Field(101, ge=2)
+    samples: Annotated[int, Field(ge=2), JSON_INTEGER] = 101
 
 
 class PositionRequest(Spec):
     model_config = examples({"indexer": INDEXER_EXAMPLE, "output_angle_deg": [11]})
     indexer: IndexerSpec
-    output_angle_deg: list[Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]] = Field(min_length=1)
+    output_angle_deg: list[Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BIG)]] = Field(min_length=1)
     method: Literal["exact", "table"] = "exact"
-    table_step: Annotated[float, Field(allow_inf_nan=False, ge=1e-4, le=0.5)] = 0.01
-    table_decimals: int | None = Field(None, ge=0, le=15)
+    table_step: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-4, le=0.5)] = 0.01
+    table_decimals: Annotated[int, Field(ge=0, le=15), JSON_INTEGER] | None = None
 
 
 class SizingRequest(Spec):

@@ -11,10 +11,23 @@ from camcore.profile import BaseCircleResult, Follower, ProfileChecks
 from camcore.profile.followers import check_follower
 from service.curves.specs import MS_SPEC, BezierCurveSpec, CurveSpec, PointsCurveSpec
 from service.models import answer_model
-from service.specs import BIG, DefaultsInDescriptions, Spec, examples
+from service.specs import (
+    BIG,
+    JSON_INTEGER,
+    DefaultsInDescriptions,
+    Spec,
+    absent,
+    all_of,
+    exactly_one,
+    examples,
+    given,
+    not_both,
+    one_of_values,
+    rule,
+)
 
-Length = Annotated[float, Field(allow_inf_nan=False, ge=-BIG, le=BIG)]
-PositiveLength = Annotated[float, Field(allow_inf_nan=False, gt=0, le=BIG)]
+Length = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BIG)]
+PositiveLength = Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=BIG)]
 
 #: a roller cam, rise–dwell–return–dwell: 20 mm over 120° (MS), 60° dwell, return, 60° dwell
 ROLLER_PROFILE_EXAMPLE: dict[str, object] = {
@@ -29,12 +42,26 @@ KNIFE_EDGE_PROFILE_EXAMPLE: dict[str, object] = {
                  {"type": "return", "angle_deg": 180, "lift_mm": 20}]}
 
 
+#: conditions on a follower spec, a missing field read as its default
+OSCILLATING = one_of_values("motion", "oscillating", default="translating")
+TRANSLATING = one_of_values("motion", "translating", default="translating")
+NOT_FLAT_FACED = one_of_values("type", "knife-edge", "roller", default="knife-edge")
+
+
 class FollowerSpec(Spec):
-    model_config = examples({"type": "roller", "roller_radius_mm": 10})
+    # check_follower's rules
+    model_config = examples(
+        {"type": "roller", "roller_radius_mm": 10},
+        rules=[rule("a roller follower needs a roller radius > 0",
+                    {"if": one_of_values("type", "roller", default="knife-edge"),
+                     "then": {"required": ["roller_radius_mm"], "properties": {"roller_radius_mm": {"exclusiveMinimum": 0}}}}),
+               rule("an oscillating follower needs pivot_distance_mm > 0", {"if": OSCILLATING, "then": given("pivot_distance_mm")}),
+               rule("an oscillating follower other than a flat-faced one needs arm_length_mm > 0",
+                    {"if": all_of(OSCILLATING, NOT_FLAT_FACED), "then": given("arm_length_mm")})])
     type: Literal["knife-edge", "roller", "flat-faced"] = "knife-edge"
     motion: Literal["translating", "oscillating"] = "translating"
     offset_mm: Length = Field(0.0, description="offset e of a translating follower's line of motion")
-    roller_radius_mm: Annotated[float, Field(allow_inf_nan=False, ge=0, le=BIG)] = 0.0
+    roller_radius_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, le=BIG)] = 0.0
     arm_length_mm: PositiveLength | None = Field(None, description="oscillating: pivot to contact")
     pivot_distance_mm: PositiveLength | None = Field(None, description="oscillating: cam centre to pivot")
 
@@ -50,11 +77,19 @@ class FollowerSpec(Spec):
 class SegmentSpec(Spec):
     """One stretch of the lift schedule; its type sets the direction of its curve."""
 
-    model_config = examples({"type": "rise", "angle_deg": 120, "lift_mm": 20, "curve": MS_SPEC})
+    model_config = examples(
+        {"type": "rise", "angle_deg": 120, "lift_mm": 20, "curve": MS_SPEC},
+        rules=[rule("a rise or return segment needs lift_mm (or swing_deg for an oscillating follower)",
+                    {"if": one_of_values("type", "rise", "return"),
+                     "then": {"anyOf": [given("lift_mm"), given("swing_deg")]}}),
+               rule("give lift_mm or swing_deg, not both", not_both("lift_mm", "swing_deg")),
+               rule("a segment's type sets its direction: give the rise law with direction 'rise'",
+                    {"not": {"required": ["curve"], "properties": {"curve": {
+                        "type": "object", "required": ["direction"], "properties": {"direction": {"const": "return"}}}}}})])
     type: Literal["rise", "dwell", "return"]
-    angle_deg: Annotated[float, Field(allow_inf_nan=False, gt=0, le=360)]
-    lift_mm: Annotated[float, Field(allow_inf_nan=False, ge=0, le=BIG)] | None = None
-    swing_deg: Annotated[float, Field(allow_inf_nan=False, ge=0, le=180)] | None = None
+    angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=360)]
+    lift_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, le=BIG)] | None = None
+    swing_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, le=180)] | None = None
     curve: CurveSpec | None = Field(None, description="the rise law (a return plays it backwards); default cycloid")
 
     @model_validator(mode="after")
@@ -69,15 +104,31 @@ class SegmentSpec(Spec):
 
 
 class ProfileSpec(Spec):
-    model_config = examples(ROLLER_PROFILE_EXAMPLE)
+    """The cam: follower, base circle, and the lift as segments or as one curve.
+
+    Segment angles add to 360°, and the schedule closes (it returns to the lift it starts at).
+    A translating follower other than a flat-faced one needs |offset_mm| < base_radius_mm +
+    roller_radius_mm, else its line of motion misses the cam.
+    """
+
+    model_config = examples(
+        ROLLER_PROFILE_EXAMPLE,
+        rules=[rule("give the lift either as segments or as one lift curve (bezier or points)",
+                    exactly_one("segments", "lift")),
+               rule("an oscillating follower's lift is swing_deg, not lift_mm",
+                    {"if": {"properties": {"follower": OSCILLATING}},
+                     "then": {"properties": {"segments": {"items": {"properties": {"lift_mm": {"maximum": 0}}}}}}}),
+               rule("a translating follower's lift is lift_mm, not swing_deg",
+                    {"if": {"properties": {"follower": TRANSLATING}},
+                     "then": {"properties": {"segments": {"items": absent("swing_deg")}}}})])
     follower: FollowerSpec
     base_radius_mm: PositiveLength
     rotation: Literal["ccw", "cw"] = "ccw"
-    rotation_ratio: Annotated[float, Field(allow_inf_nan=False, gt=0, le=1000)] = Field(
+    rotation_ratio: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=1000)] = Field(
         1.0, description="cam turns per drive-shaft turn")
     segments: list[SegmentSpec] | None = Field(None, min_length=1, max_length=360)
     lift: Annotated[BezierCurveSpec | PointsCurveSpec, Field(discriminator="type")] | None = Field(
-        None, description="one Bezier or points curve of lift over the drive angle")
+        None, description="one Bezier or points curve of lift over the drive angle, ending at the lift it starts with")
 
     @model_validator(mode="after")
     def _check(self) -> ProfileSpec:
@@ -101,10 +152,14 @@ class ProfileSpec(Spec):
 
 
 class ProfileRequest(Spec):
-    model_config = examples({"profile": ROLLER_PROFILE_EXAMPLE, "samples": 361})
+    model_config = examples(
+        {"profile": ROLLER_PROFILE_EXAMPLE, "samples": 361},
+        rules=[rule("give either samples or cam_angle_deg, not both", not_both("samples", "cam_angle_deg"))])
     profile: ProfileSpec
-    samples: int | None = Field(None, ge=2, description="evenly over 0–360° of cam angle, both ends included")
-    cam_angle_deg: list[Annotated[float, Field(allow_inf_nan=False, ge=-1e5, le=1e5)]] | None = None
+    samples: Annotated[int, Field(ge=2), JSON_INTEGER] | None = Field(None, description="evenly over 0–360° of cam angle, both ends included")
+    # minItems states the validator's rule in the schema (the validator gives the sentence)
+    cam_angle_deg: Annotated[list[Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-1e5, le=1e5)]],
+                             Field(json_schema_extra={"minItems": 1})] | None = None
 
     @model_validator(mode="after")
     def _check(self) -> ProfileRequest:
@@ -118,10 +173,14 @@ class ProfileRequest(Spec):
 
 
 class BaseCircleRequest(Spec):
-    model_config = examples({"profile": KNIFE_EDGE_PROFILE_EXAMPLE, "max_pressure_angle_deg": 30})
+    model_config = examples(
+        {"profile": KNIFE_EDGE_PROFILE_EXAMPLE, "max_pressure_angle_deg": 30},
+        rules=[rule("give max_pressure_angle_deg and/or min_radius_of_curvature_mm (a flat-faced follower may give neither)",
+                    {"if": {"properties": {"profile": {"properties": {"follower": NOT_FLAT_FACED}}}},
+                     "then": {"anyOf": [given("max_pressure_angle_deg"), given("min_radius_of_curvature_mm")]}})])
     profile: ProfileSpec
-    max_pressure_angle_deg: Annotated[float, Field(allow_inf_nan=False, gt=0, lt=90)] | None = None
-    min_radius_of_curvature_mm: Annotated[float, Field(allow_inf_nan=False, ge=0, le=BIG)] | None = None
+    max_pressure_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, lt=90)] | None = None
+    min_radius_of_curvature_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, le=BIG)] | None = None
 
     @model_validator(mode="after")
     def _check(self) -> BaseCircleRequest:
