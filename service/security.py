@@ -13,9 +13,10 @@
 Both are middleware, not route dependencies, so the OpenAPI document is the same
 whatever the settings (the committed ``openapi/openapi.json`` is generated with the
 defaults). Call it last in ``create_app`` so that it wraps everything else: CORS is
-outermost (a browser's preflight is answered without a key, and a 401 still carries
-the CORS headers the browser needs to read it), then the key check, then the body-size
-limit — an unauthenticated caller learns nothing about the limits.
+outermost after the security headers (a browser's preflight is answered without a key, and a
+401 still carries the CORS headers the browser needs to read it), then the key check, then the
+in-flight limit, allowed methods, media type and body-size limit — an unauthenticated caller
+learns nothing about the limits.
 """
 
 from __future__ import annotations
