@@ -399,6 +399,12 @@ def test_curve_lift_with_rotation_ratio():
     np.testing.assert_allclose(h1, dh_ddrive / 2.0, rtol=1e-12, atol=1e-12)
     with pytest.raises(InvalidParameterError, match="whole number"):
         CurveLift(PeriodicCurve(), rotation_ratio=1.5)
+    # One cam turn holds 360/(γ·180°) periods: 1000 at γ = 1/500 is the most; fewer cam turns per
+    # drive turn (down to 5e-324, where 360/γ overflows) are refused before the periods are laid out.
+    assert len(CurveLift(PeriodicCurve(), rotation_ratio=1 / 500).breaks_rad) > 1000
+    for ratio in (1 / 500.5, 5e-324):
+        with pytest.raises(InvalidParameterError, match="more than 1000 spans"):
+            CurveLift(PeriodicCurve(), rotation_ratio=ratio)
 
 
 # ============================================================================ base circle

@@ -172,6 +172,9 @@ class LiftSchedule:
         return [o.reshape(th.shape) for o in out]
 
 
+MAX_PERIODS_PER_TURN = 1000  # lift periods on one cam turn; each one is a copy of the curve's breaks
+
+
 class CurveLift:
     """One user lift curve over the drive angle (a Bezier or points curve).
 
@@ -195,6 +198,10 @@ class CurveLift:
             raise InvalidParameterError("The lift curve must span a positive drive angle.")
         drive_per_turn = 360.0 / rotation_ratio
         periods = drive_per_turn / span
+        if not periods <= MAX_PERIODS_PER_TURN:  # also inf, from a vanishing rotation_ratio
+            raise InvalidParameterError(
+                f"One cam turn is {drive_per_turn!r}° of drive angle (360°/rotation_ratio), more than "
+                f"{MAX_PERIODS_PER_TURN} spans of the lift curve ({span!r}°): raise rotation_ratio.")
         if abs(periods - round(periods)) > 1e-9 * max(1.0, periods) or round(periods) < 1:
             raise InvalidParameterError(
                 f"One cam turn is {drive_per_turn!r}° of drive angle (360°/rotation_ratio); the lift curve spans "
