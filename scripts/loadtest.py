@@ -7,9 +7,15 @@
     python -m scripts.loadtest --url http://127.0.0.1:8000   # an already running server (loopback only)
 
 503 answers (the service shedding load, with Retry-After) are counted apart from errors:
-the report gives their share, and the latency of the accepted (200) answers, with how
-many of them waited over 2 s. RSS is reported per worker process (uvicorn's children with
---workers > 1).
+the report gives their share, and the latency of the accepted (200) answers (whole answer
+received, also per kind of request) and their wait (until the answer's first byte: a large
+table streams after that), with how many took or waited over 2 s. RSS is reported per
+worker process (uvicorn's children with --workers > 1).
+
+The client is scripts/rawhttp.py, not httpx: at ~1 ms of CPU per request httpx measured
+itself on a machine whose cores it shares with the server. A 503 is followed at once by
+the next request (a client that ignores Retry-After: the hard case); --client-processes
+spreads the connections over several client processes.
 
 The mix (many distinct specs, drawn from a fixed seed): POST /v1/curves/table (random
 universal break points, Makino curve 4 with random T1 ≤ T3, named curves; JSON or CSV),
@@ -31,18 +37,22 @@ import asyncio
 import ipaddress
 import json
 import math
+import multiprocessing
 import os
 import random
 import socket
 import subprocess
 import sys
 import time
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 from urllib.parse import urlsplit
 
 import httpx
+
+from scripts.rawhttp import Connection, encode_request
 
 ROOT = Path(__file__).resolve().parents[1]
 NAMED = ["MS", "MCV50", "MCV25", "MT", "TR", "cycloid", "simple-harmonic", "3-4-5", "4-5-6-7",
@@ -197,11 +207,20 @@ async def send(client: httpx.AsyncClient, req: Req) -> httpx.Response:
     return await client.request(req.method, req.path, json=req.json, params=req.params, headers=req.headers())
 
 
+def encoded(req: Req, url: str) -> bytes:
+    host = urlsplit(url).netloc
+    return encode_request(host, req.method, req.path, req.json, req.params, req.headers())
+
+
 # ----------------------------------------------------------------------------- the run
 @dataclass
 class Stats:
     latencies: list[float] = field(default_factory=list)  # accepted (200) answers
+    kind_latencies: dict[str, list[float]] = field(default_factory=dict)
+    waits: list[float] = field(default_factory=list)  # accepted answers: until their first byte
+    big_bodies: dict[str, int] = field(default_factory=dict)  # status of the 4 MB posts: count
     shed: int = 0  # 503 answers (with Retry-After)
+    shed_why: dict[str, int] = field(default_factory=dict)  # kind of request: why (the detail's first words)
     errors: dict[str, int] = field(default_factory=dict)
     by_kind: dict[str, int] = field(default_factory=dict)
     answers: dict[int, bytes] = field(default_factory=dict)  # pool index → body
@@ -222,42 +241,104 @@ def request_pool(seed: int, specs: int) -> list[Req]:
     return [make_request(rng) for _ in range(specs)]  # distinct specs, re-requested (the caches matter)
 
 
+#: 4 MB of numbers for a curve that does not exist: all parsing and validation, then a 404 at
+#: once (nothing computed), so a client can send them as fast as the loopback carries them
+BIG_BODY = Req("big-body", "POST", "/v1/curves/inverse",
+               {"curve": {"type": "named", "name": "no-such-curve"},
+                "s": [(i + 0.5) / 200_000 + 1e-12 for i in range(200_000)]})
+
+
 async def run_load(url: str, pool: list[Req], seconds: float, connections: int, max_requests: int, seed: int,
-                   sample_size: int) -> Stats:
+                   sample_size: int, big_bodies: int = 0) -> Stats:
+    """``connections`` keep-alive connections, each sending one request after the other
+    (drawn from the pool) until the time is up; a 503 is answered at once by the next request.
+    ``big_bodies`` more connections post BIG_BODY (4 MB) one after the other."""
     rng = random.Random(seed + 1)
     stats = Stats()
     sampled = set(rng.sample(range(len(pool)), min(sample_size, len(pool))))
+    raw = [encoded(req, url) for req in pool]
     deadline = time.monotonic() + seconds
     issued = 0
-    limits = httpx.Limits(max_connections=connections, max_keepalive_connections=connections)
 
-    async with httpx.AsyncClient(base_url=url, limits=limits, timeout=30.0) as client:
-
-        async def worker(wid: int) -> None:
-            nonlocal issued
-            local = random.Random(seed * 1000 + wid)
+    async def worker(wid: int) -> None:
+        nonlocal issued
+        local = random.Random(seed * 1000 + wid)
+        connection = Connection(url)
+        try:
             while time.monotonic() < deadline and issued < max_requests:
                 issued += 1
                 i = local.randrange(len(pool))
-                req = pool[i]
                 t0 = time.perf_counter()
                 try:
-                    r = await send(client, req)
-                except httpx.HTTPError as exc:
+                    answer = await asyncio.wait_for(connection.request(raw[i]), 30.0)
+                except (OSError, asyncio.IncompleteReadError, asyncio.LimitOverrunError, TimeoutError) as exc:
+                    await connection.close()
                     stats.error(type(exc).__name__)
                     continue
-                stats.by_kind[req.kind] = stats.by_kind.get(req.kind, 0) + 1
-                if r.status_code == 503 and "retry-after" in r.headers:
+                kind = pool[i].kind
+                stats.by_kind[kind] = stats.by_kind.get(kind, 0) + 1
+                if answer.status == 503 and "retry-after" in answer.headers:
                     stats.shed += 1
+                    why = f"{kind}: {shed_reason(answer.body)}"
+                    stats.shed_why[why] = stats.shed_why.get(why, 0) + 1
                     continue
-                stats.latencies.append(time.perf_counter() - t0)
-                if r.status_code != 200:
-                    stats.error(f"HTTP {r.status_code} {req.kind}")
+                took = time.perf_counter() - t0
+                stats.latencies.append(took)
+                stats.waits.append(answer.headers_at - t0)
+                stats.kind_latencies.setdefault(kind, []).append(took)
+                if answer.status != 200:
+                    stats.error(f"HTTP {answer.status} {kind}")
                 elif i in sampled and i not in stats.answers:
-                    stats.answers[i] = r.content
+                    stats.answers[i] = answer.body
+        finally:
+            await connection.close()
 
-        await asyncio.gather(*(worker(w) for w in range(connections)))
+    async def big_poster() -> None:
+        connection, raw_big = Connection(url), encoded(BIG_BODY, url)
+        try:
+            while time.monotonic() < deadline:
+                answer = await asyncio.wait_for(connection.request(raw_big), 60.0)
+                why = f"{answer.status}"
+                stats.big_bodies[why] = stats.big_bodies.get(why, 0) + 1
+        finally:
+            await connection.close()
+
+    await asyncio.gather(*(worker(w) for w in range(connections)), *(big_poster() for _ in range(big_bodies)))
     return stats
+
+
+def run_load_in_processes(url: str, pool: list[Req], seconds: float, connections: int, max_requests: int,
+                          seed: int, sample_size: int, processes: int, big_bodies: int = 0) -> Stats:
+    """The connections shared out over ``processes`` client processes (one event loop each),
+    their statistics merged."""
+    if processes == 1:
+        return asyncio.run(run_load(url, pool, seconds, connections, max_requests, seed, sample_size, big_bodies))
+    shares = [connections // processes + (k < connections % processes) for k in range(processes)]
+    with ProcessPoolExecutor(processes, mp_context=multiprocessing.get_context("fork")) as executor:
+        parts = list(executor.map(_run_share, [(url, pool, seconds, share, max_requests // processes, seed + 7919 * k,
+                                                sample_size, big_bodies if k == 0 else 0)
+                                               for k, share in enumerate(shares)]))
+    merged = Stats()
+    for part in parts:
+        merged.latencies += part.latencies
+        merged.waits += part.waits
+        merged.shed += part.shed
+        for status, n in part.big_bodies.items():
+            merged.big_bodies[status] = merged.big_bodies.get(status, 0) + n
+        for why, n in part.shed_why.items():
+            merged.shed_why[why] = merged.shed_why.get(why, 0) + n
+        for what, n in part.errors.items():
+            merged.errors[what] = merged.errors.get(what, 0) + n
+        for kind, n in part.by_kind.items():
+            merged.by_kind[kind] = merged.by_kind.get(kind, 0) + n
+        merged.answers.update(part.answers)
+        for kind, waits in part.kind_latencies.items():
+            merged.kind_latencies.setdefault(kind, []).extend(waits)
+    return merged
+
+
+def _run_share(args: tuple[Any, ...]) -> Stats:
+    return asyncio.run(run_load(*args))
 
 
 async def cold_answers(url: str, pool: list[Req], indices: list[int]) -> dict[int, bytes]:
@@ -288,6 +369,19 @@ def direct_answer(req: Req) -> dict[str, list[float]] | None:
     return None
 
 
+def shed_reason(body: bytes) -> str:
+    """The kind of refusal, from a 503's detail (its numbers left out)."""
+    try:
+        detail = str(json.loads(body)["detail"])
+    except (ValueError, KeyError, TypeError):
+        return "?"
+    for words in ("requests in progress", "s of estimated work", "of waiting at this worker's pace",
+                  "for one of", "deadline", "client closed"):
+        if words in detail:
+            return words
+    return detail[:40]
+
+
 def run_figures(stats: Stats, elapsed: float) -> dict[str, Any]:
     accepted = len(stats.latencies)
     answered = accepted + stats.shed
@@ -298,11 +392,19 @@ def run_figures(stats: Stats, elapsed: float) -> dict[str, Any]:
         "accepted_rps": round(accepted / elapsed, 1),
         "shed_503_share": round(stats.shed / answered, 4) if answered else 0.0,
         "by_kind": stats.by_kind,
+        "shed_why": dict(sorted(stats.shed_why.items())),
+        "big_bodies": stats.big_bodies,
         "errors": stats.errors,
         "p50_ms": round(percentile(stats.latencies, 0.50) * 1000, 2),
         "p99_ms": round(percentile(stats.latencies, 0.99) * 1000, 2),
         "max_ms": round(max(stats.latencies, default=math.nan) * 1000, 2),
         "accepted_over_2s": sum(1 for x in stats.latencies if x > 2.0),
+        "wait_p99_ms": round(percentile(stats.waits, 0.99) * 1000, 2),
+        "wait_max_ms": round(max(stats.waits, default=math.nan) * 1000, 2),
+        "waited_over_2s": sum(1 for x in stats.waits if x > 2.0),
+        "accepted_by_kind": {kind: {"n": len(w), "p50_ms": round(percentile(w, 0.5) * 1000, 1),
+                                    "p99_ms": round(percentile(w, 0.99) * 1000, 1), "max_ms": round(max(w) * 1000, 1)}
+                             for kind, w in sorted(stats.kind_latencies.items())},
     }
 
 
@@ -347,6 +449,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seconds", type=float, default=60.0, help="duration of each run (default 60)")
     ap.add_argument("--connections", type=int, default=64)
     ap.add_argument("--workers", type=int, default=1, help="uvicorn workers of the server this script starts")
+    ap.add_argument("--client-processes", type=int, default=1, help="load-client processes sharing the connections")
+    ap.add_argument("--big-bodies", type=int, default=0, help="more connections posting 4 MB bodies")
+    ap.add_argument("--only", choices=["light-cached"], help="the mix: only cached GET tables (small answers)")
     ap.add_argument("--runs", type=int, default=1, help="consecutive runs against the same server")
     ap.add_argument("--largest", type=int, default=0, help="instead: this many concurrent largest tables")
     ap.add_argument("--max-requests", type=int, default=1_000_000, help="hard cap on requests per run")
@@ -370,6 +475,8 @@ def main(argv: list[str] | None = None) -> int:
     report: dict[str, Any] = {"url": url, "connections": args.connections, "workers": args.workers,
                               "seconds": args.seconds, "runs": []}
     pool = request_pool(args.seed, args.specs)
+    if args.only == "light-cached":
+        pool = [req for req in pool if req.kind == "csv"]  # GET named tables: cached after their first answer
     stats = Stats()
     try:
         if args.largest:
@@ -381,8 +488,8 @@ def main(argv: list[str] | None = None) -> int:
             report["rss_start_kib"] = server.worker_rss_kib()
         for run in range(args.runs):
             t0 = time.monotonic()
-            stats = asyncio.run(run_load(url, pool, args.seconds, args.connections, args.max_requests,
-                                         args.seed + run, args.sample))
+            stats = run_load_in_processes(url, pool, args.seconds, args.connections, args.max_requests,
+                                          args.seed + run, args.sample, args.client_processes, args.big_bodies)
             figures = run_figures(stats, time.monotonic() - t0)
             if server:
                 figures["rss_end_kib"] = server.worker_rss_kib()

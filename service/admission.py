@@ -8,18 +8,23 @@ Two bounds per worker process:
 - :class:`WorkGate`: a computation runs in a worker thread only after its estimated work
   (camcore.work) has been checked against the budget (413 over it) and admitted: at most
   ``work_slots`` run at once, and the estimated seconds admitted but not finished stay
-  under ``max_queued_work_s`` (503 with ``Retry-After`` beyond, so no accepted request
-  waits long). A running computation has a deadline (``work_deadline_s``) and is
-  cancelled when its client disconnects; camcore's loops stop it at their next
-  checkpoint (camcore.deadline), answered 503.
+  under ``max_queued_work_s``. The wait for a slot is bounded by ``max_queue_wait_s``
+  twice: at admission, from the work ahead and the pace this worker has shown (the
+  measured run time per estimated second, which grows when the machine is loaded), so
+  most refusals are immediate; and in the queue, where a computation that has waited that
+  long leaves without running. Both answer 503 with ``Retry-After``. An admitted
+  computation has a deadline (``work_deadline_s``, counted from admission, so the wait is
+  in it) and is cancelled when its client disconnects; camcore's loops stop it at their
+  next checkpoint (camcore.deadline), answered 503.
 """
 
 from __future__ import annotations
 
 import asyncio
 import functools
+import time
 from collections.abc import Callable
-from typing import Any, TypeVar
+from typing import Any, NoReturn, TypeVar
 
 import anyio
 import orjson
@@ -33,6 +38,12 @@ from service.errors import RETRY_AFTER_S, ServiceBusyError
 from service.settings import Settings
 
 T = TypeVar("T")
+
+#: weight of the newest run in the measured pace (an exponential average over ~10 runs)
+PACE_WEIGHT = 0.1
+#: the pace is kept in [PACE_MIN, PACE_MAX] run seconds per estimated second (one odd run cannot
+#: make the worker refuse everything, nor admit everything)
+PACE_MIN, PACE_MAX = 0.25, 20.0
 
 #: paths never refused for being busy (liveness probes)
 ALWAYS_ADMITTED = frozenset({"/health"})
@@ -78,6 +89,8 @@ class WorkGate:
         self.budget_s = settings.max_work_s
         self.deadline_s = settings.work_deadline_s
         self.max_queued_s = settings.max_queued_work_s
+        self.max_wait_s = settings.max_queue_wait_s
+        self.pace = 1.0  # measured run seconds per estimated second
         self.retry_after_s = RETRY_AFTER_S
         self.slots = settings.work_slots
         self.admitted_s = 0.0  # estimated seconds admitted and not finished (waiting or running)
@@ -96,25 +109,49 @@ class WorkGate:
         disconnect stop it (camcore.errors.WorkStoppedError, answered 503)."""
         self.check_budget(estimate)
         seconds = estimate.seconds
-        if self.admitted and self.admitted_s + seconds > self.max_queued_s:
-            self.refused_busy += 1
-            raise ServiceBusyError(
-                f"this worker is busy: {self.admitted} computations ({self.admitted_s:.2g} s of estimated work) "
-                f"are admitted, the limit is {self.max_queued_s:g} s; retry after {self.retry_after_s} s.",
-                self.retry_after_s)
+        if self.admitted:
+            if self.admitted_s + seconds > self.max_queued_s:
+                self._busy(f"{self.admitted} computations ({self.admitted_s:.2g} s of estimated work) are admitted, "
+                           f"the limit is {self.max_queued_s:g} s")
+            if self.projected_wait_s() > self.max_wait_s:
+                self._busy(f"{self.admitted} computations are ahead, about {self.projected_wait_s():.2g} s of waiting "
+                           f"at this worker's pace, the limit is {self.max_wait_s:g} s")
         if self._semaphore is None:
             self._semaphore = asyncio.Semaphore(self.slots)
+        deadline = Deadline(self.deadline_s)
         self.admitted_s += seconds
         self.admitted += 1
         try:
-            async with self._semaphore:
-                return await self._run_watched(request, work, *args)
+            try:
+                async with asyncio.timeout(self.max_wait_s):
+                    await self._semaphore.acquire()
+            except TimeoutError:
+                self._busy(f"this computation waited {self.max_wait_s:g} s for one of {self.slots} slots")
+            try:
+                started = time.perf_counter()
+                result = await self._run_watched(request, deadline, work, *args)
+                self._measure(seconds, time.perf_counter() - started)
+                return result
+            finally:
+                self._semaphore.release()
         finally:
             self.admitted_s = max(0.0, self.admitted_s - seconds)
             self.admitted -= 1
 
-    async def _run_watched(self, request: Request, work: Callable[..., T], *args: Any) -> T:
-        deadline = Deadline(self.deadline_s)
+    def projected_wait_s(self) -> float:
+        """How long a computation admitted now would wait for a slot: the estimated work
+        ahead of it at this worker's measured pace, shared over the slots."""
+        return self.admitted_s * self.pace / self.slots
+
+    def _measure(self, estimated_s: float, run_s: float) -> None:
+        ratio = min(PACE_MAX, max(PACE_MIN, run_s / estimated_s)) if estimated_s > 0 else self.pace
+        self.pace += PACE_WEIGHT * (ratio - self.pace)
+
+    def _busy(self, why: str) -> NoReturn:
+        self.refused_busy += 1
+        raise ServiceBusyError(f"this worker is busy: {why}; retry after {self.retry_after_s} s.", self.retry_after_s)
+
+    async def _run_watched(self, request: Request, deadline: Deadline, work: Callable[..., T], *args: Any) -> T:
 
         async def watch_disconnect() -> None:
             while (await request.receive())["type"] != "http.disconnect":

@@ -50,10 +50,13 @@ class Settings(BaseSettings):
 
     # work (camcore.work estimates it before it runs; service.admission admits it)
     max_work_s: float = Field(1.0, gt=0, le=3600, description="budget: a request estimated to need more is refused (413)")
-    work_deadline_s: float = Field(2.0, gt=0, le=3600, description="a computation still running after this is stopped (503)")
+    work_deadline_s: float = Field(2.0, gt=0, le=3600,
+                                   description="a computation not done this long after admission is stopped (503)")
     work_slots: int = Field(2, ge=1, le=64, description="computations running at once per worker (threads)")
     max_queued_work_s: float = Field(2.0, gt=0, le=3600,
                                      description="estimated seconds admitted and not finished per worker; more: 503")
+    max_queue_wait_s: float = Field(0.5, gt=0, le=3600,
+                                    description="a computation that would wait (or has waited) longer for a slot: 503")
     max_in_flight: int = Field(64, ge=1, le=100_000, description="requests in progress per worker; more: 503")
 
     # caches: bounded by entry count; tables are cached only up to a row count

@@ -188,7 +188,7 @@ async def test_a_client_that_leaves_stops_its_computation() -> None:
 
 
 async def test_the_gate_queue_is_bounded_by_estimated_seconds() -> None:
-    gate = WorkGate(Settings(work_slots=1, max_queued_work_s=1.0))
+    gate = WorkGate(Settings(work_slots=1, max_queued_work_s=1.0, max_queue_wait_s=60))
     stop = threading.Event()
     running = asyncio.ensure_future(gate.run(_Request(None), _estimate(0.6), _spin, stop, 30.0))  # type: ignore[arg-type]
     await asyncio.sleep(0.05)
@@ -203,6 +203,42 @@ async def test_the_gate_queue_is_bounded_by_estimated_seconds() -> None:
     assert gate.admitted == 0 and gate.refused_busy == 1
     # an idle gate admits one computation however large its estimate is within the budget
     assert await gate.run(_Request(None), _estimate(0.99), _spin, stop, 0.0) == "done"  # type: ignore[arg-type]
+
+
+async def test_a_computation_that_waited_too_long_for_a_slot_leaves_without_running() -> None:
+    gate = WorkGate(Settings(work_slots=1, max_queue_wait_s=0.2))
+    stop, never = threading.Event(), threading.Event()
+    gate.pace = 0.01  # as if earlier work had run 100× faster than estimated: admission lets it in
+    running = asyncio.ensure_future(gate.run(_Request(None), _estimate(0.5), _spin, stop, 30.0))  # type: ignore[arg-type]
+    await asyncio.sleep(0.05)
+    start = time.monotonic()
+    with pytest.raises(ServiceBusyError, match="waited 0.2 s for one of 1 slots"):
+        await gate.run(_Request(None), _estimate(0.1), _spin, never, 0.0)  # type: ignore[arg-type]
+    waited = time.monotonic() - start
+    assert 0.2 <= waited < 1.0  # the queue timeout, plus this loaded machine's scheduling
+    stop.set()
+    assert await running == "done"
+    assert gate.admitted == 0 and gate.admitted_s == 0 and gate.refused_busy == 1
+    assert gate._semaphore is not None and not gate._semaphore.locked()  # the slot is free again
+
+
+async def test_the_measured_pace_refuses_at_admission_what_would_wait_too_long() -> None:
+    gate = WorkGate(Settings(work_slots=1, max_queue_wait_s=0.5, max_queued_work_s=100))
+    stop = threading.Event()
+    stop.set()
+    for _ in range(40):  # work estimated at 10 ms that takes ~40 ms: the pace converges to ~4
+        await gate.run(_Request(None), _estimate(0.01), _spin, threading.Event(), 0.04)  # type: ignore[arg-type]
+    assert 3.0 < gate.pace < 8.0  # ≥ 4 (each run sleeps 40 ms), plus thread start-up on a loaded machine
+    blocker = threading.Event()
+    running = asyncio.ensure_future(gate.run(_Request(None), _estimate(0.2), _spin, blocker, 30.0))  # type: ignore[arg-type]
+    await asyncio.sleep(0.05)
+    # 0.2 estimated seconds ahead at pace ≥ 3 is ≥ 0.6 s of waiting: refused at once, not after 0.5 s
+    start = time.monotonic()
+    with pytest.raises(ServiceBusyError, match=r"about .* s of waiting at this worker's pace, the limit is 0.5 s"):
+        await gate.run(_Request(None), _estimate(0.01), _spin, stop, 0.0)  # type: ignore[arg-type]
+    assert time.monotonic() - start < 0.1
+    blocker.set()
+    assert await running == "done"
 
 
 async def test_in_flight_limit_answers_503_with_retry_after_but_never_for_health() -> None:

@@ -5,10 +5,13 @@ from __future__ import annotations
 
 import asyncio
 import json
+import threading
 
+import httpx
 import pytest
 
 import service.health as health
+import service.routing as routing
 from service.app import create_app
 from service.curves import routes as curves
 from service.indexers import routes as indexers
@@ -57,3 +60,56 @@ def test_every_api_operation_parses_with_orjson() -> None:
     # getCurveValue); HEAD /health is the one route outside the document
     assert len([r for r in routes if r.include_in_schema]) == operations >= 28
     assert all(isinstance(r, OrjsonRoute) for r in routes), [r.path for r in routes if not isinstance(r, OrjsonRoute)]
+
+
+# ----------------------------------------------------------------------------- large bodies
+def _inverse_body(values: int, bad_at: int | None = None) -> bytes:
+    s: list[object] = [i / values + 1e-9 for i in range(values)]  # ~20 bytes per number
+    if bad_at is not None:
+        s[bad_at] = "0.5"  # a string where a number belongs: a 422 naming body.s.<index>
+    return json.dumps({"curve": {"type": "named", "name": "MS"}, "s": s}).encode()
+
+
+async def _post(app: object, body: bytes) -> tuple[int, bytes]:
+    transport = httpx.ASGITransport(app=app)  # type: ignore[arg-type]
+    async with httpx.AsyncClient(transport=transport, base_url="http://t") as client:
+        response = await client.post("/v1/curves/inverse", content=body, headers={"Content-Type": "application/json"})
+    return response.status_code, response.content
+
+
+@pytest.mark.anyio
+@pytest.mark.parametrize("bad_at", [None, 19_999])
+async def test_large_bodies_are_validated_in_a_thread_with_the_same_answers(
+        bad_at: int | None, monkeypatch: pytest.MonkeyPatch) -> None:
+    body = _inverse_body(20_000, bad_at)  # ~400 KB: over LARGE_BODY_BYTES
+    assert len(body) > routing.LARGE_BODY_BYTES
+    app = create_app()
+    threads: list[str] = []
+    real_loads = routing.loads
+
+    def recording_loads(raw: bytes) -> object:
+        threads.append(threading.current_thread().name)
+        return real_loads(raw)
+
+    monkeypatch.setattr(routing, "loads", recording_loads)
+    large = await _post(app, body)
+    assert threads and threads[0] != threading.main_thread().name  # parsed off the event loop's thread
+    assert len(threads) == 1  # and only once: FastAPI took the validated model (or the errors)
+    monkeypatch.setattr(routing, "LARGE_BODY_BYTES", 1 << 30)  # every body small: FastAPI parses and validates
+    threads.clear()
+    small = await _post(app, body)
+    assert threads == [threading.main_thread().name]
+    assert large == small  # the same status and the same bytes: the values, or the 422 naming body.s.19999
+    assert large[0] == (200 if bad_at is None else 422)
+    if bad_at is not None:
+        assert b'"s",19999' in large[1].replace(b" ", b"")
+
+
+@pytest.mark.anyio
+async def test_a_large_malformed_body_is_the_same_error(monkeypatch: pytest.MonkeyPatch) -> None:
+    body = _inverse_body(20_000)[:-5]  # cut short
+    app = create_app()
+    large = await _post(app, body)
+    assert large[0] == 400, large  # the service answers a body that is not JSON with 400
+    monkeypatch.setattr(routing, "LARGE_BODY_BYTES", 1 << 30)
+    assert await _post(app, body) == large
