@@ -9,7 +9,8 @@
 503 answers (the service shedding load, with Retry-After) are counted apart from errors:
 the report gives their share, and the latency of the accepted (200) answers (whole answer
 received, also per kind of request) and their wait (until the answer's first byte: a large
-table streams after that), with how many took or waited over 2 s. RSS is reported per
+table streams after that), with how many took or waited over 2 s; and the wait the server
+itself measured (its Server-Timing header), which leaves out the client's and the kernel's. RSS is reported per
 worker process (uvicorn's children with --workers > 1).
 
 The client is scripts/rawhttp.py, not httpx: at ~1 ms of CPU per request httpx measured
@@ -218,6 +219,7 @@ class Stats:
     latencies: list[float] = field(default_factory=list)  # accepted (200) answers
     kind_latencies: dict[str, list[float]] = field(default_factory=dict)
     waits: list[float] = field(default_factory=list)  # accepted answers: until their first byte
+    server_waits: list[float] = field(default_factory=list)  # the same, in the server (Server-Timing)
     big_bodies: dict[str, int] = field(default_factory=dict)  # status of the 4 MB posts: count
     shed: int = 0  # 503 answers (with Retry-After)
     shed_why: dict[str, int] = field(default_factory=dict)  # kind of request: why (the detail's first words)
@@ -285,6 +287,9 @@ async def run_load(url: str, pool: list[Req], seconds: float, connections: int, 
                 took = time.perf_counter() - t0
                 stats.latencies.append(took)
                 stats.waits.append(answer.headers_at - t0)
+                timing = answer.headers.get("server-timing", "")
+                if timing.startswith("app;dur="):
+                    stats.server_waits.append(float(timing[len("app;dur="):]) / 1000)
                 stats.kind_latencies.setdefault(kind, []).append(took)
                 if answer.status != 200:
                     stats.error(f"HTTP {answer.status} {kind}")
@@ -322,6 +327,7 @@ def run_load_in_processes(url: str, pool: list[Req], seconds: float, connections
     for part in parts:
         merged.latencies += part.latencies
         merged.waits += part.waits
+        merged.server_waits += part.server_waits
         merged.shed += part.shed
         for status, n in part.big_bodies.items():
             merged.big_bodies[status] = merged.big_bodies.get(status, 0) + n
@@ -402,6 +408,9 @@ def run_figures(stats: Stats, elapsed: float) -> dict[str, Any]:
         "wait_p99_ms": round(percentile(stats.waits, 0.99) * 1000, 2),
         "wait_max_ms": round(max(stats.waits, default=math.nan) * 1000, 2),
         "waited_over_2s": sum(1 for x in stats.waits if x > 2.0),
+        "server_wait_p99_ms": round(percentile(stats.server_waits, 0.99) * 1000, 2),
+        "server_wait_max_ms": round(max(stats.server_waits, default=math.nan) * 1000, 2),
+        "server_waited_over_2s": sum(1 for x in stats.server_waits if x > 2.0),
         "accepted_by_kind": {kind: {"n": len(w), "p50_ms": round(percentile(w, 0.5) * 1000, 1),
                                     "p99_ms": round(percentile(w, 0.99) * 1000, 1), "max_ms": round(max(w) * 1000, 1)}
                              for kind, w in sorted(stats.kind_latencies.items())},

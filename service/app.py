@@ -13,7 +13,7 @@ from service.errors import install_error_handlers
 from service.health import router as health_router
 from service.indexers import routes as indexers
 from service.indexers.service import IndexerService
-from service.middleware import AllowedMethods, BodySizeLimit, JSONBodiesOnly, SecurityHeaders
+from service.middleware import AllowedMethods, BodySizeLimit, JSONBodiesOnly, SecurityHeaders, ServerTiming
 from service.offline_docs import install_offline_docs
 from service.plots import routes as plots
 from service.profiles import routes as profiles
@@ -28,11 +28,11 @@ on `Accept: text/csv` (POST) or `?format=csv` (GET)."""
 
 
 class CamcoreAPI(FastAPI):
-    """FastAPI with :class:`SecurityHeaders` outside everything, Starlette's own error
-    middleware included (its 500 answers would miss the headers otherwise)."""
+    """FastAPI with :class:`SecurityHeaders` and :class:`ServerTiming` outside everything,
+    Starlette's own error middleware included (its 500 answers would miss the headers otherwise)."""
 
     def build_middleware_stack(self) -> ASGIApp:
-        return SecurityHeaders(super().build_middleware_stack())
+        return SecurityHeaders(ServerTiming(super().build_middleware_stack()))
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:

@@ -11,6 +11,7 @@ Their answers carry the service's error body, ``{"detail": ..., "errors": []}``.
 from __future__ import annotations
 
 import email.message
+import time
 from collections.abc import Iterator, Sequence
 from typing import Any
 
@@ -52,6 +53,30 @@ class SecurityHeaders:
             await send(message)
 
         await self.app(scope, receive, send_with_headers)
+
+
+class ServerTiming:
+    """Adds ``Server-Timing: app;dur=<ms>`` to every HTTP answer: the time from the request
+    reaching the app to its answer starting (for a streamed answer, before its body). A
+    client or a load test can then tell the server's wait from its own and the network's."""
+
+    def __init__(self, app: ASGIApp):
+        self.app = app
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        started = time.perf_counter()
+
+        async def send_with_timing(message: Message) -> None:
+            if message["type"] == "http.response.start":
+                duration_ms = (time.perf_counter() - started) * 1000
+                timing = (b"server-timing", b"app;dur=%.1f" % duration_ms)
+                message = {**message, "headers": [*message.get("headers", []), timing]}
+            await send(message)
+
+        await self.app(scope, receive, send_with_timing)
 
 
 def _matching_routes(routes: Sequence[BaseRoute], scope: Scope) -> Iterator[tuple[Match, RouteContext]]:

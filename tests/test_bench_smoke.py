@@ -57,3 +57,16 @@ def test_readme_figures_are_the_bench_readmes() -> None:
     bench = _medians((ROOT / "bench" / "README.md").read_text(encoding="utf-8"), "## Latest figures")
     assert set(readme) == FIGURES
     assert readme == bench
+
+
+def test_cost_model_smoke_measures_every_case() -> None:
+    from bench.cost_model import CASES
+
+    proc = subprocess.run([sys.executable, "-m", "bench.cost_model", "--smoke"], cwd=ROOT, capture_output=True,
+                          text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-4000:]
+    result = json.loads(proc.stdout)
+    assert result["mode"] == "smoke" and set(result["cases"]) == {case.name for case in CASES}
+    for name, figure in result["cases"].items():
+        # every case answered for real (200), its work timed inside the gate and estimated beforehand
+        assert figure["estimate_s"] > 0 and 0 < figure["work_s_median"] <= figure["answer_s_median"], name

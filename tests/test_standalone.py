@@ -123,3 +123,18 @@ def test_files_named_in_the_docs_exist() -> None:
     assert len(named) > 20, named  # the pattern found the file names
     missing = sorted(name for name in named if not (ROOT / name).exists())
     assert not missing, f"docs name files that do not exist: {missing}"
+
+
+def test_every_setting_is_documented_with_its_default() -> None:
+    from service.settings import Settings
+
+    api = (ROOT / "docs" / "api.md").read_text(encoding="utf-8")
+    rows = {line.split("|")[1].strip(" `"): line.split("|")[2] for line in api.splitlines()
+            if line.startswith("| `CAMCORE_")}
+    for name, field in Settings.model_fields.items():
+        variable = f"CAMCORE_{name.upper()}"
+        assert variable in rows, f"{variable} is not in docs/api.md's settings table"
+        default = field.default
+        if isinstance(default, (int, float)) and not isinstance(default, bool):
+            shown = rows[variable].split("(")[0].strip(" `")
+            assert float(shown) == float(default), (variable, shown, default)

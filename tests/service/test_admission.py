@@ -283,3 +283,25 @@ async def test_large_tables_are_streamed_and_hold_camcores_numbers(app_client: t
     assert list(answer) == list(expected)
     for name, column in expected.items():  # shortest round-trip text: the same doubles, exactly
         assert np.array_equal(answer[name], column), name
+
+
+async def test_every_answer_says_how_long_the_server_took(app_client: tuple[Any, httpx.AsyncClient],
+                                                          monkeypatch: pytest.MonkeyPatch) -> None:
+    """Server-Timing: app;dur=<ms>, from the request reaching the app to its answer starting
+    (scripts/loadtest.py reads it to tell the server's wait from the client's)."""
+    import re
+
+    _, client = app_client
+    for response in (await client.get("/v1/curves/MS"), await client.get("/v1/curves/no-such-curve"),
+                      await client.post("/v1/curves/table", json={"curve": MS, "samples": 1})):
+        assert re.fullmatch(r"app;dur=\d+\.\d", response.headers["server-timing"]), response.headers
+    real_table = app_client[0].state.curve_service.table_columns
+
+    def slow_table(*args: Any) -> Any:
+        time.sleep(0.2)
+        return real_table(*args)
+
+    monkeypatch.setattr(app_client[0].state.curve_service, "table_columns", slow_table)
+    slow = await client.post("/v1/curves/table", json={"curve": MS, "samples": 11})
+    assert slow.status_code == 200
+    assert float(slow.headers["server-timing"].split("=")[1]) >= 200  # the 0.2 s of work is in it
