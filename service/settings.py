@@ -50,7 +50,7 @@ class Settings(BaseSettings):
 
     # work (camcore.work estimates it before it runs; service.admission admits it)
     max_work_s: float = Field(1.0, gt=0, le=3600, description="budget: a request estimated to need more is refused (413)")
-    work_deadline_s: float = Field(2.0, gt=0, le=3600,
+    work_deadline_s: float = Field(1.5, gt=0, le=3600,
                                    description="a computation not done this long after admission is stopped (503)")
     work_slots: int = Field(2, ge=1, le=64, description="computations running at once per worker (threads)")
     max_queued_work_s: float = Field(2.0, gt=0, le=3600,
