@@ -169,22 +169,20 @@ async def accepted(case: Case, n: int) -> float | None:
     raise RuntimeError(f"{case.name} at {n}: {response.status_code} {response.text[:300]}")
 
 
-async def edge(case: Case, smallest: int = 2) -> tuple[int, float]:
-    """The largest accepted size (bisection: the estimates grow with the size) and its estimate."""
+async def edge(case: Case, smallest: int = 2) -> int:
+    """The largest accepted size (bisection: the estimates grow with the size)."""
     low, high = smallest, case.largest
-    low_estimate = await accepted(case, low)
-    if low_estimate is None:
+    if await accepted(case, low) is None:
         raise RuntimeError(f"{case.name}: even size {low} is refused")
     if await accepted(case, high) is not None:
-        return high, float(await accepted(case, high) or 0.0)
+        return high
     while high - low > 1:
         mid = (low + high) // 2
-        estimate = await accepted(case, mid)
-        if estimate is None:
+        if await accepted(case, mid) is None:
             high = mid
         else:
-            low, low_estimate = mid, estimate
-    return low, low_estimate
+            low = mid
+    return low
 
 
 async def measure(case: Case, n: int, repeats: int) -> dict[str, Any]:
@@ -218,7 +216,7 @@ async def main_async(smoke: bool) -> dict[str, Any]:
             n = min(case.largest, 101 if case.largest > 1000 else 100 if case.size == "dpi" else 4)
             figures[case.name] = await measure(case, n, repeats=1)
         else:
-            n, _ = await edge(case, smallest=60 if case.size == "dpi" else 2)
+            n = await edge(case, smallest=60 if case.size == "dpi" else 2)
             figures[case.name] = await measure(case, n, repeats=3)
         print(case.name, json.dumps(figures[case.name]), flush=True, file=sys.stderr)
     return {"mode": "smoke" if smoke else "full", "budget_s": Settings().max_work_s, "cases": figures}

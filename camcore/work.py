@@ -19,7 +19,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from .curves.kinds import CURVE_KINDS, LawCost
+from .curves.kinds import CLOSED_FORM_COST, CURVE_KINDS, LawCost
 
 Field = tuple[str | int, ...]
 
@@ -160,7 +160,7 @@ def checks_work(laws: Sequence[LawCost | None], field: Field) -> WorkEstimate:
     ----------
     camcore.profile.checks; the measurements beside :data:`CHECKS_FIXED_S`.
     """
-    costs = [law.sample_s if law is not None else 5e-8 for law in laws] or [5e-8]
+    costs = [(law or CLOSED_FORM_COST).sample_s for law in laws] or [CLOSED_FORM_COST.sample_s]
     seconds = (CHECKS_FIXED_S + CHECKS_PER_SEGMENT_S * len(costs)
                + 1.5 * (CHECKS_SAMPLES_PER_SEGMENT * sum(costs) + CHECKS_SAMPLES * max(costs)))
     return WorkEstimate((WorkTerm(field, f"the profile checks of {len(costs)} segments", seconds),))
@@ -188,7 +188,7 @@ def profile_work(laws: Sequence[LawCost | None], samples: int, segments_field: F
     ----------
     camcore.profile.compute; the measurements beside :data:`PROFILE_SAMPLE_S`.
     """
-    slowest = max((law.sample_s for law in laws if law is not None), default=5e-8)
+    slowest = max((law.sample_s for law in laws if law is not None), default=CLOSED_FORM_COST.sample_s)
     return checks_work(laws, segments_field) + per_item_work(
         samples, PROFILE_SAMPLE_S + slowest, samples_field, f"{samples} profile samples")
 

@@ -230,6 +230,20 @@ class Stats:
     def error(self, what: str) -> None:
         self.errors[what] = self.errors.get(what, 0) + 1
 
+    def add(self, other: Stats) -> None:
+        """Take in another client process's figures."""
+        self.latencies += other.latencies
+        self.waits += other.waits
+        self.server_waits += other.server_waits
+        self.shed += other.shed
+        for mine, theirs in ((self.shed_why, other.shed_why), (self.errors, other.errors),
+                             (self.by_kind, other.by_kind), (self.big_bodies, other.big_bodies)):
+            for key, n in theirs.items():
+                mine[key] = mine.get(key, 0) + n
+        for kind, waits in other.kind_latencies.items():
+            self.kind_latencies.setdefault(kind, []).extend(waits)
+        self.answers.update(other.answers)
+
 
 def percentile(values: list[float], q: float) -> float:
     if not values:
@@ -325,21 +339,7 @@ def run_load_in_processes(url: str, pool: list[Req], seconds: float, connections
                                                for k, share in enumerate(shares)]))
     merged = Stats()
     for part in parts:
-        merged.latencies += part.latencies
-        merged.waits += part.waits
-        merged.server_waits += part.server_waits
-        merged.shed += part.shed
-        for status, n in part.big_bodies.items():
-            merged.big_bodies[status] = merged.big_bodies.get(status, 0) + n
-        for why, n in part.shed_why.items():
-            merged.shed_why[why] = merged.shed_why.get(why, 0) + n
-        for what, n in part.errors.items():
-            merged.errors[what] = merged.errors.get(what, 0) + n
-        for kind, n in part.by_kind.items():
-            merged.by_kind[kind] = merged.by_kind.get(kind, 0) + n
-        merged.answers.update(part.answers)
-        for kind, waits in part.kind_latencies.items():
-            merged.kind_latencies.setdefault(kind, []).extend(waits)
+        merged.add(part)
     return merged
 
 

@@ -113,8 +113,9 @@ class WorkGate:
             if self.admitted_s + seconds > self.max_queued_s:
                 self._busy(f"{self.admitted} computations ({self.admitted_s:.2g} s of estimated work) are admitted, "
                            f"the limit is {self.max_queued_s:g} s")
-            if self.projected_wait_s() > self.max_wait_s:
-                self._busy(f"{self.admitted} computations are ahead, about {self.projected_wait_s():.2g} s of waiting "
+            wait_s = self.projected_wait_s()
+            if wait_s > self.max_wait_s:
+                self._busy(f"{self.admitted} computations are ahead, about {wait_s:.2g} s of waiting "
                            f"at this worker's pace, the limit is {self.max_wait_s:g} s")
         if self._semaphore is None:
             self._semaphore = asyncio.Semaphore(self.slots)

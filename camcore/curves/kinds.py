@@ -71,7 +71,8 @@ class CurveKind:
 # 200 000 times in ≤ 5 ms; a Bezier curve of degree d builds in 16-94 ms (d = 3-30) and
 # costs 0.24-1.8 µs per time (a Newton solve for its parameter; 0.2 + 0.002·d² µs fits
 # within 12 %); a points curve of n points builds in 11 ms + 7.5 µs·n.
-_CLOSED_FORM = LawCost(build_s=0.03, sample_s=5e-8)
+#: a law in closed form (named, Makino, universal, polynomial; a dwell costs no more)
+CLOSED_FORM_COST = LawCost(build_s=0.03, sample_s=5e-8)
 
 
 def _bezier_cost(p: Mapping[str, Any]) -> LawCost:
@@ -96,13 +97,13 @@ CURVE_KINDS: dict[str, CurveKind] = {
     kind.name: kind
     for kind in (
         CurveKind("named", "a catalog curve by id, alias or Makino number", named_curve, ("name",),
-                  lambda p: _CLOSED_FORM),
+                  lambda p: CLOSED_FORM_COST),
         CurveKind("makino", "Makino's curve by classification number, with its own parameters",
-                  makino_curve, ("number", "z", "t4", "t1", "t3"), lambda p: _CLOSED_FORM),
+                  makino_curve, ("number", "z", "t4", "t1", "t3"), lambda p: CLOSED_FORM_COST),
         CurveKind("universal", "Makino's universal cam curve: break points and end conditions",
-                  universal_curve, ("t", "m", "v0", "v7", "s0", "s7"), lambda p: _CLOSED_FORM),
+                  universal_curve, ("t", "m", "v0", "v7", "s0", "s7"), lambda p: CLOSED_FORM_COST),
         CurveKind("polynomial", "a polynomial law by name, or the least-degree one meeting end conditions",
-                  _polynomial, ("name", "start", "end"), lambda p: _CLOSED_FORM),
+                  _polynomial, ("name", "start", "end"), lambda p: CLOSED_FORM_COST),
         CurveKind("bezier", "lift over drive angle as a Bezier curve in the (θ, h) plane", BezierCurve,
                   ("control_points",), _bezier_cost,
                   SizeLimit("Bezier degree", "max_bezier_degree", "max_degree", "control_points", lambda p: len(p["control_points"]) - 1)),
