@@ -12,7 +12,7 @@ References
 .. [2] Makino (1977), §5.3: the cutting-unit feed cam.
 """
 
-from .laws import SOLVED_PARAMETERS, PlacedLaw
+from .laws import SOLVED_PARAMETERS, PlacedLaw, law_role
 from .program import CONTINUITY_TOLERANCE, MotionLift, MotionProgram
 from .resolve import resolve_motion
 from .results import Join, MotionCharacteristics, MotionTable, ResolvedSegment
@@ -29,7 +29,24 @@ from .spec import (
 )
 
 __all__ = [
-    "CONTINUITY_TOLERANCE", "CYCLOID", "SOLVE", "SOLVED_PARAMETERS", "SPAN_TOLERANCE", "Join", "Law",
-    "MotionCharacteristics", "MotionLift", "MotionProgram", "MotionSegment", "MotionSpec", "MotionTable",
-    "PlacedLaw", "ResolvedSegment", "check_program", "check_segment", "check_spans", "resolve_motion",
+    "CONTINUITY_TOLERANCE",
+    "CYCLOID",
+    "SOLVE",
+    "SOLVED_PARAMETERS",
+    "SPAN_TOLERANCE",
+    "Join",
+    "Law",
+    "MotionCharacteristics",
+    "MotionLift",
+    "MotionProgram",
+    "MotionSegment",
+    "MotionSpec",
+    "MotionTable",
+    "PlacedLaw",
+    "ResolvedSegment",
+    "check_program",
+    "check_segment",
+    "check_spans",
+    "law_role",
+    "resolve_motion",
 ]

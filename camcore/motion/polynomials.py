@@ -21,9 +21,9 @@ different lengths do not make the system ill-conditioned by units alone.
 References
 ----------
 .. [1] R. L. Norton, Cam Design and Manufacturing Handbook, ch. 3 (polynomials from boundary
-   conditions) and ch. 4 (splines for cam functions).
-.. [2] I. J. Schoenberg, Cardinal Spline Interpolation (1973): odd-degree splines through
-   given values, clamped or periodic.
+   conditions).
+.. [2] C. de Boor, A Practical Guide to Splines (2001): splines through given values, their
+   continuity at the knots as a linear system.
 """
 
 from __future__ import annotations
@@ -110,7 +110,7 @@ def solve_chain(members: Sequence[Member], periodic: bool) -> list[tuple[dict[in
 
     References
     ----------
-    Norton, Cam Design and Manufacturing Handbook, ch. 3-4; Schoenberg (1973).
+    Norton, Cam Design and Manufacturing Handbook, ch. 3; de Boor (2001), splines through given values.
     """
     r = len(members)
     joins = [(p, p + 1) for p in range(r - 1) if members[p].end is None]

@@ -135,6 +135,10 @@ class _Resolver:
         for i, segment in enumerate(spec.segments):
             end = period if i == n - 1 else float(starts[i + 1])
             law = None if segment.type == "dwell" else (segment.law or CYCLOID)
+            if not end > float(starts[i]):
+                raise InvalidParameterError(
+                    f"segments[{i}]: span_deg = {segment.span_deg!r} vanishes against the master angle where the "
+                    f"segment starts ({float(starts[i])!r}°); make it longer.", field=("segments", i, "span_deg"))
             self.segs.append(Segment(i, segment, law, float(starts[i]), end - float(starts[i])))
         for seg in self.segs:
             with _at_segment(seg.index):
@@ -236,7 +240,7 @@ class _Resolver:
             elif prev.s_a is not None and prev.stroke is not None:
                 seg.s_a = prev.s_a + prev.stroke
             else:
-                seg.waiting = f"its start position, from segments[{prev.index}]"
+                seg.waiting = f"the end position of segments[{prev.index}] for its start"
             changed |= seg.s_a is not None
         if seg.stroke is None:
             seg.stroke = self._stroke(seg)
@@ -258,7 +262,7 @@ class _Resolver:
             return None  # with T4 (_solve_parameter)
         prev = self._prev(seg)
         if prev.placed is None:
-            seg.waiting = f"its solved stroke (to: null), from the end velocity of segments[{prev.index}]"
+            seg.waiting = f"the end velocity of segments[{prev.index}] for its solved stroke (to: null)"
             return None
         return self._solved_stroke(seg, seg.normal[0][1], prev.placed.ends()[1][1], prev.index)
 
@@ -299,7 +303,7 @@ class _Resolver:
             prev, nxt = self._prev(seg), self._next(seg)
             needs = [other for other, side in ((prev, 0), (nxt, 1)) if seg.matched[side] and other.placed is None]
             if needs:
-                seg.waiting = f"its end velocities, from segments[{needs[0].index}]"
+                seg.waiting = f"the velocity of segments[{needs[0].index}] for its matched end"
                 return False
             v_start = self._ends(prev)[1][1] if seg.matched[0] else None
             v_end = self._ends(nxt)[0][1] if seg.matched[1] else None
@@ -330,13 +334,16 @@ class _Resolver:
                                         "program has no other segment; give it.", field=("curve", name))
         solving = seg.segment.to == SOLVE
         if solving and prev.placed is None:
-            seg.waiting = f"its solved stroke (to: null), from the end velocity of segments[{prev.index}]"
+            seg.waiting = f"the end velocity of segments[{prev.index}] for its solved stroke (to: null)"
             return False
         v_prev = prev.placed.ends()[1][1] if solving and prev.placed is not None else 0.0
         next_start = self._next_start(nxt, s_a)
         if next_start is None:
-            seg.waiting = f"its {name}, from the start acceleration of segments[{nxt.index}]"
+            seg.waiting = f"the start acceleration of segments[{nxt.index}] for its {name}"
             return False
+
+        with _at_segment(seg.index, "curve"):  # a law that cannot be built at all says why (not "no root")
+            self.fresh(with_parameter(seg.law, name, lo))
 
         def trial(value: float) -> tuple[float, float, Curve, float, float]:
             """(residual, stroke, curve, end acceleration, next start acceleration) at a trial value."""
@@ -423,7 +430,7 @@ class _Resolver:
                 outside.append(self._next(last))
         waiting = [s for s in outside if s.placed is None]
         if waiting:
-            first.waiting = f"the conditions of its matched polynomial, from segments[{waiting[0].index}]"
+            first.waiting = f"the end conditions of segments[{waiting[0].index}] for its matched polynomial"
             return False
         members = []
         for p, seg in enumerate(segs):
@@ -459,11 +466,11 @@ class _Resolver:
     # ---------------------------------------------------------------- results
     def _stuck(self) -> InvalidParameterError:
         seg = next(s for s in self.segs if s.placed is None)
-        waits = seg.waiting or "what it needs from its neighbours"
+        waits = seg.waiting or "the conditions of its neighbours"
         return InvalidParameterError(
-            f"segments[{seg.index}]: {waits} depends in turn on this segment (through the positions, the solved "
-            "conditions or the wrap-around at period_deg), so the program cannot be resolved in order; give an "
-            "explicit to or stroke, or explicit end conditions, to break the circle.", field=("segments", seg.index))
+            f"segments[{seg.index}]: it needs {waits}, which depends in turn on this segment (through the positions, "
+            "the solved conditions or the wrap-around at period_deg), so the program cannot be resolved in order; give "
+            "an explicit to or stroke, or explicit end conditions, to break the circle.", field=("segments", seg.index))
 
     def _result(self, seg: Segment) -> ResolvedSegment:
         assert seg.s_a is not None and seg.stroke is not None

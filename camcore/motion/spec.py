@@ -31,7 +31,7 @@ from .._checks import finite
 from ..errors import InvalidParameterError
 
 #: ``to`` of a segment whose stroke is solved (the API's ``"to": null``)
-SOLVE = "solve"
+SOLVE: Literal["solve"] = "solve"
 #: the spans of a program must add to its period within this fraction of the period: the
 #: rounding of a sum of spans is ~1e-16 per span, a real mistake is ≥ 1e-6 of a turn
 SPAN_TOLERANCE = 1e-9
@@ -90,13 +90,14 @@ class MotionSpec:
     unit: str = "mm"
 
 
-def check_segment(index: int, segment: MotionSegment) -> None:
+def check_segment(index: int | None, segment: MotionSegment) -> None:
     """A segment's own rules: its span, and how it ends.
 
     Parameters
     ----------
-    index : int
-        The segment's place in the program (for messages) [-].
+    index : int or None
+        The segment's place in the program, named in messages and fields [-]; None where the
+        caller knows where the segment is (a spec validator: the field's location has it).
     segment : MotionSegment
         The segment.
 
@@ -110,33 +111,32 @@ def check_segment(index: int, segment: MotionSegment) -> None:
     ----------
     VDI 2143 Blatt 1 (1980): segments of a motion program, rest (dwell) and transition.
     """
-    where = ("segments", index)
+    name = "" if index is None else f"segments[{index}]: "
+    where: tuple[str | int, ...] = () if index is None else ("segments", index)
     if segment.type not in SEGMENT_TYPES:
-        raise InvalidParameterError(f"segments[{index}]: type must be 'move' or 'dwell', not {segment.type!r}.",
+        raise InvalidParameterError(f"{name}type must be 'move' or 'dwell', not {segment.type!r}.",
                                     field=(*where, "type"))
-    span = finite(f"segments[{index}].span_deg", segment.span_deg)
+    span = finite(f"{name}span_deg", segment.span_deg)
     if not span > 0:
-        raise InvalidParameterError(f"segments[{index}]: span_deg must be greater than 0, got {span!r}.",
-                                    field=(*where, "span_deg"))
+        raise InvalidParameterError(f"{name}span_deg must be greater than 0, got {span!r}.", field=(*where, "span_deg"))
     if segment.match not in MATCH_ORDERS:
-        raise InvalidParameterError(f"segments[{index}]: match must be 'acceleration' or 'jerk', not {segment.match!r}.",
+        raise InvalidParameterError(f"{name}match must be 'acceleration' or 'jerk', not {segment.match!r}.",
                                     field=(*where, "match"))
     if segment.type == "dwell":
         if segment.to is not None or segment.stroke is not None or segment.law is not None:
-            raise InvalidParameterError(
-                f"segments[{index}]: a dwell holds its position; give it no to, stroke or curve.", field=where)
+            raise InvalidParameterError(f"{name}a dwell holds its position; give it no to, stroke or curve.",
+                                        field=where)
         return
     if segment.to is not None and segment.stroke is not None:
-        raise InvalidParameterError(
-            f"segments[{index}]: give to (absolute; null = solved) or stroke (relative), not both.", field=where)
+        raise InvalidParameterError(f"{name}give to (absolute; null = solved) or stroke (relative), not both.",
+                                    field=where)
     if segment.to is None and segment.stroke is None:
         raise InvalidParameterError(
-            f"segments[{index}]: a move needs to (an absolute end position, or null to solve it) or a stroke.",
-            field=where)
+            f"{name}a move needs to (an absolute end position, or null to solve it) or a stroke.", field=where)
     if segment.to is not None and segment.to != SOLVE:
-        finite(f"segments[{index}].to", segment.to)
+        finite(f"{name}to", segment.to)
     if segment.stroke is not None:
-        finite(f"segments[{index}].stroke", segment.stroke)
+        finite(f"{name}stroke", segment.stroke)
 
 
 def check_spans(spans_deg: Sequence[float], period_deg: float) -> None:
