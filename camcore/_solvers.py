@@ -319,3 +319,39 @@ def periodic_grid_max(fun: Callable[[FloatArray], FloatArray], grid: FloatArray,
         if vi > best_v:
             best_t, best_v = ti, vi
     return float(np.mod(best_t, period)), best_v
+
+
+def scan_roots(fun: Callable[[FloatArray], FloatArray], grid: FloatArray) -> tuple[list[float], FloatArray]:
+    """Every root of a scalar function that a grid brackets, refined to machine precision.
+
+    Parameters
+    ----------
+    fun : callable
+        Vectorised function of x; a non-finite value (x where it is not defined) brackets nothing.
+    grid : ndarray
+        Sorted points x; the function is assumed to change sign at most once between neighbours.
+
+    Returns
+    -------
+    (list of float, ndarray)
+        The grid points where ``fun`` is exactly 0 and one root in each cell where it changes
+        sign, sorted; and ``fun`` on the grid (for a caller that explains why there is none).
+
+    Notes
+    -----
+    Each cell is refined by :func:`illinois_roots` (to 4 ulp, at most
+    ``ILLINOIS_MAX_ITERATIONS`` rounds); the root is the cell's midpoint.
+
+    References
+    ----------
+    Dowell and Jarratt (1971), the Illinois method.
+    """
+    values = np.asarray(fun(grid), dtype=np.float64)
+    roots = [float(x) for x in grid[values == 0]]
+    cells = np.flatnonzero(np.isfinite(values[:-1]) & np.isfinite(values[1:]) & (values[:-1] * values[1:] < 0))
+    if cells.size:
+        lo, hi = grid[cells].astype(np.float64), grid[cells + 1].astype(np.float64)
+        illinois_roots(lambda x, _cell: np.asarray(fun(x), dtype=np.float64), lo, hi, values[cells].copy(),
+                       values[cells + 1].copy(), np.zeros(cells.size, dtype=np.intp))
+        roots += [float(x) for x in 0.5 * (lo + hi)]
+    return sorted(roots), values

@@ -31,7 +31,7 @@ class Extremum:
     t: float
 
 
-def doc(text: str) -> dict[str, str]:
+def doc(text: str, name: str | None = None) -> dict[str, str]:
     """Field metadata with a description for the answer schema:
     ``name: float = field(metadata=doc("..."))``.
 
@@ -39,17 +39,25 @@ def doc(text: str) -> dict[str, str]:
     ----------
     text : str
         The field's description, with its unit in brackets where it has one.
+    name : str, optional
+        The field's name in the answer when it cannot be the attribute's (a Python keyword:
+        ``from_`` answers as ``from``).
 
     Returns
     -------
     dict of str to str
-        ``{"description": text}``, read back by :func:`answer_fields`.
+        ``{"description": text}`` (and ``"name"``), read back by :func:`answer_fields`.
 
     References
     ----------
     docs/architecture.md, one model per concept (core results are the models the service serves).
     """
-    return {"description": text}
+    return {"description": text} if name is None else {"description": text, "name": name}
+
+
+def _key(f: dataclasses.Field[Any]) -> str:
+    """A field's name in the answer (see :func:`doc`)."""
+    return str(f.metadata.get("name", f.name))
 
 
 def _plain(value: Any) -> Any:
@@ -88,10 +96,10 @@ def as_dict(result: Any) -> dict[str, Any]:
             continue
         value = getattr(result, f.name)
         if isinstance(value, Extremum):
-            out[f.name] = float(value.value)
-            out[f"t_{f.name}"] = float(value.t)
+            out[_key(f)] = float(value.value)
+            out[f"t_{_key(f)}"] = float(value.t)
         else:
-            out[f.name] = _plain(value)
+            out[_key(f)] = _plain(value)
     return out
 
 
@@ -146,11 +154,11 @@ def answer_fields(cls: type) -> list[tuple[str, Any, str | None, bool]]:
         text = f.metadata.get("description")
         required = f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
         if hint is Extremum:
-            out.append((f.name, float, text, required))
-            out.append((f"t_{f.name}", float, f"where {f.name} occurs" if text is None else f"where it occurs: {text}",
+            out.append((_key(f), float, text, required))
+            out.append((f"t_{_key(f)}", float, f"where {_key(f)} occurs" if text is None else f"where it occurs: {text}",
                         required))
             continue
-        out.append((f.name, _listify(hint), text, required))
+        out.append((_key(f), _listify(hint), text, required))
     return out
 
 

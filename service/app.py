@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from fastapi import FastAPI
+from typing import Any
+
+from fastapi import APIRouter, FastAPI
 from starlette.types import ASGIApp
 
 import camcore
@@ -14,7 +16,10 @@ from service.health import router as health_router
 from service.indexers import routes as indexers
 from service.indexers.service import IndexerService
 from service.middleware import AllowedMethods, BodySizeLimit, JSONBodiesOnly, SecurityHeaders, ServerTiming
+from service.motions import routes as motions
+from service.motions.service import MotionService
 from service.offline_docs import install_offline_docs
+from service.openapi_examples import restore_examples
 from service.plots import routes as plots
 from service.profiles import routes as profiles
 from service.profiles.service import ProfileService
@@ -23,16 +28,26 @@ from service.settings import Settings
 
 DESCRIPTION = """Cam motion curves (Makino's universal cam curve, the INDEXMAN catalog curves,
 polynomial laws, Bezier and measured-point curves), characteristic values, exact inverse
-lookups, indexer sizing and plate-cam profiles. Tables are column-oriented JSON, or CSV
+lookups, indexer sizing, plate-cam profiles and motion programs (machine cycles matched at every
+join). Tables are column-oriented JSON, or CSV
 on `Accept: text/csv` (POST) or `?format=csv` (GET)."""
 
 
 class CamcoreAPI(FastAPI):
     """FastAPI with :class:`SecurityHeaders` and :class:`ServerTiming` outside everything,
-    Starlette's own error middleware included (its 500 answers would miss the headers otherwise)."""
+    Starlette's own error middleware included (its 500 answers would miss the headers
+    otherwise), and with the request examples of its routers as written, nulls included
+    (service.openapi_examples)."""
+
+    example_routers: tuple[APIRouter, ...] = ()
 
     def build_middleware_stack(self) -> ASGIApp:
         return SecurityHeaders(ServerTiming(super().build_middleware_stack()))
+
+    def openapi(self) -> dict[str, Any]:
+        if self.openapi_schema is None:
+            restore_examples(super().openapi(), self.example_routers)
+        return super().openapi()
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:
@@ -44,12 +59,12 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.curve_service = CurveService(settings)
     app.state.indexer_service = IndexerService(app.state.curve_service)
     app.state.profile_service = ProfileService(app.state.curve_service)
+    app.state.motion_service = MotionService(app.state.curve_service)
     install_error_handlers(app)
-    app.include_router(health_router)
-    app.include_router(curves.router)
-    app.include_router(indexers.router)
-    app.include_router(profiles.router)
-    app.include_router(plots.router)
+    app.example_routers = (health_router, curves.router, indexers.router, profiles.router, motions.router,
+                           plots.router)
+    for router in app.example_routers:
+        app.include_router(router)
     install_offline_docs(app)  # before security: it publishes the asset paths left open
     app.add_middleware(BodySizeLimit, max_body_bytes=settings.max_body_bytes)
     app.add_middleware(JSONBodiesOnly, routes=app.router.routes)  # 415 before any body is read

@@ -7,6 +7,7 @@ from fastapi import Request
 from service.admission import WorkGate
 from service.curves.service import CurveService
 from service.indexers.service import IndexerService
+from service.motions.service import MotionService
 from service.profiles.service import ProfileService
 
 
@@ -17,6 +18,11 @@ async def curve_service(request: Request) -> CurveService:
 
 async def indexer_service(request: Request) -> IndexerService:
     service: IndexerService = request.app.state.indexer_service
+    return service
+
+
+async def motion_service(request: Request) -> MotionService:
+    service: MotionService = request.app.state.motion_service
     return service
 
 

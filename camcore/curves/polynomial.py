@@ -100,6 +100,34 @@ def _singular(matrix: NDArray[np.float64]) -> bool:
     return False
 
 
+def boundary_matrix(conditions: Sequence[tuple[int, float]]) -> NDArray[np.float64]:
+    """The confluent Vandermonde matrix of boundary conditions on a polynomial.
+
+    Parameters
+    ----------
+    conditions : sequence of (int, float)
+        (order, T) of each condition: the order-th derivative [-] at T = 0 or 1 [-].
+
+    Returns
+    -------
+    ndarray
+        Row i holds d^order/dT^order of T^k at T for k = 0 … n − 1 [-]; the polynomial of
+        degree n − 1 with coefficients c meets the conditions' values b when M·c = b.
+
+    References
+    ----------
+    R. L. Norton, Cam Design and Manufacturing Handbook, ch. 3 (polynomial laws from boundary
+    conditions).
+    """
+    n = len(conditions)
+    matrix = np.zeros((n, n))
+    for i, (order, where) in enumerate(conditions):
+        for k in range(order, n):
+            # d^order/dT^order of T^k at T = where
+            matrix[i, k] = math.perm(k, order) * (where ** (k - order) if k > order else 1.0)
+    return matrix
+
+
 def polynomial_from_boundary(start: Mapping[str, float | None], end: Mapping[str, float | None]) -> PolynomialCurve:
     """The polynomial of least degree meeting the given end conditions.
 
@@ -139,12 +167,7 @@ def polynomial_from_boundary(start: Mapping[str, float | None], end: Mapping[str
             rows.append(np.array([order, where]))
             rhs.append(float(value))
     n = len(rhs)
-    matrix = np.zeros((n, n))
-    for i, (order, where) in enumerate(rows):
-        order = int(order)
-        for k in range(order, n):
-            # d^order/dT^order of T^k at T = where
-            matrix[i, k] = math.perm(k, order) * (where ** (k - order) if k > order else 1.0)
+    matrix = boundary_matrix([(int(order), float(where)) for order, where in rows])
     if _singular(matrix):
         raise InvalidParameterError(
             f"these boundary conditions do not determine a polynomial of degree {n - 1}: its {n} equations are not "

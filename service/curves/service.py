@@ -95,6 +95,10 @@ class CurveService:
             self._check_spec_size(spec)
             return self.curves.get_or_create(spec.cache_key(), lambda: self._build(spec))
 
+    def size_limits(self) -> dict[str, int]:
+        """The curve size limits by setting name, as camcore's builders take them."""
+        return self._limits()
+
     def _limits(self) -> dict[str, int]:
         return {"max_bezier_degree": self.settings.max_bezier_degree,
                 "max_curve_points": self.settings.max_curve_points}

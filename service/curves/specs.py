@@ -60,13 +60,15 @@ MAKINO_PARAMETERS = ("z", "t4", "t1", "t3")
 MAKINO_PARAMETER_BOUNDS: dict[int, dict[str, dict[str, float]]] = {36: {"t1": {"maximum": 0.25}}}
 
 
-def _makino_rules() -> list[dict[str, Any]]:
-    """camcore's table of Makino's numbers and the parameters each needs and takes, as rules."""
+def makino_rules(solvable: dict[int, tuple[str, ...]] | None = None) -> list[dict[str, Any]]:
+    """camcore's table of Makino's numbers and the parameters each needs and takes, as rules;
+    ``solvable``: parameters a curve may leave out where it is solved (a motion program)."""
     rules = []
     for number, special in sorted(MAKINO_SPECIAL.items()):
         takes = special.parameters + special.optional
-        needs = f"needs {', '.join(special.parameters)}" if special.parameters else f"takes {', '.join(takes)}"
-        then = all_of(*([given(*special.parameters)] if special.parameters else []),
+        required = tuple(p for p in special.parameters if p not in (solvable or {}).get(number, ()))
+        needs = f"needs {', '.join(required)}" if required else f"takes {', '.join(takes)}"
+        then = all_of(*([given(*required)] if required else []),
                       absent(*(p for p in MAKINO_PARAMETERS if p not in takes)),
                       {"properties": MAKINO_PARAMETER_BOUNDS.get(number, {})})
         rules.append(rule(f"Makino curve {number} {needs} and no other parameter",
@@ -87,7 +89,7 @@ class MakinoCurveSpec(CurveKindSpec):
     """
 
     model_config = examples({"type": "makino", "number": 4, "t1": 0.0625, "t3": 0.25}, {"type": "makino", "number": 26},
-                            rules=_makino_rules())
+                            rules=makino_rules())
     type: Literal["makino"] = "makino"
     number: Annotated[int, Field(ge=1, le=99), JSON_INTEGER] = Field(examples=[4])
     z: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=1)] | None = None

@@ -17,6 +17,7 @@ import pytest
 
 from service.app import create_app
 from service.indexers.specs import INDEXER_EXAMPLE
+from service.motions.specs import FEED_CYCLE
 from service.profiles.specs import KNIFE_EDGE_PROFILE_EXAMPLE
 
 pytestmark = pytest.mark.anyio
@@ -28,6 +29,7 @@ INVERSE = {"curve": MS, "s": [0.1833]}
 MOTION = {"indexer": INDEXER_EXAMPLE, "samples": 11}
 POSITION = {"indexer": INDEXER_EXAMPLE, "output_angle_deg": [11]}
 PROFILE = {"profile": KNIFE_EDGE_PROFILE_EXAMPLE, "samples": 37}
+PROGRAM = {"motion": FEED_CYCLE, "samples": 13}
 CSV_ACCEPT = {"Accept": "text/csv"}
 
 # (method, path template, url, body, headers, media type answered)
@@ -46,6 +48,10 @@ CASES: list[tuple[str, str, str, dict[str, Any] | None, dict[str, str], str]] = 
     ("POST", "/v1/indexers/motion.csv", "/v1/indexers/motion.csv", MOTION, {}, "text/csv"),
     ("POST", "/v1/indexers/position", "/v1/indexers/position", POSITION, CSV_ACCEPT, "text/csv"),
     ("POST", "/v1/indexers/position.csv", "/v1/indexers/position.csv", POSITION, {}, "text/csv"),
+    ("POST", "/v1/motions", "/v1/motions", PROGRAM, {}, "application/json"),
+    ("POST", "/v1/motions", "/v1/motions?format=csv", PROGRAM, {}, "text/csv"),
+    ("POST", "/v1/motions", "/v1/motions", PROGRAM, CSV_ACCEPT, "text/csv"),
+    ("POST", "/v1/motions/table.csv", "/v1/motions/table.csv", PROGRAM, {}, "text/csv"),
     ("POST", "/v1/profiles", "/v1/profiles", PROFILE, {}, "application/json"),
     ("POST", "/v1/profiles", "/v1/profiles?format=csv", PROFILE, {}, "text/csv"),
     ("POST", "/v1/profiles", "/v1/profiles?format=contour-csv", PROFILE, {}, "text/csv"),
@@ -104,7 +110,7 @@ def test_json_answers_keep_their_models_and_come_first() -> None:
 def test_file_twins_answer_only_their_file() -> None:
     twins = {path: ops["post"] if "post" in ops else ops["get"] for path, ops in DOC["paths"].items()
              if path.endswith((".csv", ".dxf", ".xyz"))}
-    assert len(twins) == 10, sorted(twins)
+    assert len(twins) == 11, sorted(twins)
     for path, op in twins.items():
         content = op["responses"]["200"]["content"]
         assert len(content) == 1, (path, list(content))

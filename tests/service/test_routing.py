@@ -15,6 +15,7 @@ import service.routing as routing
 from service.app import create_app
 from service.curves import routes as curves
 from service.indexers import routes as indexers
+from service.motions import routes as motions
 from service.plots import routes as plots
 from service.profiles import routes as profiles
 from service.routing import OrjsonRequest, OrjsonRoute
@@ -54,11 +55,12 @@ def test_malformed_bodies_raise_what_the_standard_library_raises(body: bytes) ->
 
 
 def test_every_api_operation_parses_with_orjson() -> None:
-    routes = [r for module in (curves, health, indexers, plots, profiles) for r in module.router.routes]
+    routes = [r for module in (curves, health, indexers, motions, plots, profiles)
+              for r in module.router.routes]
     operations = sum(len(ops) for ops in create_app().openapi()["paths"].values())
-    # every operation of the document is a route of these routers (28 with the file twins and
-    # getCurveValue); HEAD /health is the one route outside the document
-    assert len([r for r in routes if r.include_in_schema]) == operations >= 28
+    # every operation of the document is a route of these routers (30 with the file twins,
+    # getCurveValue and computeMotion); HEAD /health is the one route outside the document
+    assert len([r for r in routes if r.include_in_schema]) == operations >= 30
     assert all(isinstance(r, OrjsonRoute) for r in routes), [r.path for r in routes if not isinstance(r, OrjsonRoute)]
 
 

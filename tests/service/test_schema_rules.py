@@ -130,6 +130,27 @@ def base_circle(follower: dict[str, Any], **fields: Any) -> tuple[str, dict[str,
     return "/v1/profiles/base-circle", {"profile": profile(follower), **fields}
 
 
+POLY = {"type": "polynomial"}
+
+
+def program(feed: dict[str, Any] | None = None, **fields: Any) -> tuple[str, dict[str, Any]]:
+    """Dwell, rise to 10 mm with a matched quintic (``feed`` replaces that segment), constant
+    velocity, quintic, dwell, cycloid back: a motion program."""
+    segments = [{"span_deg": 30, "type": "dwell"}, feed or {"span_deg": 60, "to": 10, "curve": POLY},
+                {"span_deg": 120, "to": 50, "curve": {"type": "named", "name": "constant-velocity"}},
+                {"span_deg": 60, "to": 60, "curve": POLY}, {"span_deg": 30, "type": "dwell"}, {"span_deg": 60, "to": 0}]
+    return "/v1/motions", {"motion": {"segments": segments}, "samples": 11, **fields}
+
+
+def cutting_feed(curve_2: dict[str, Any], to: float | None = None) -> tuple[str, dict[str, Any]]:
+    """Makino's cutting-unit cycle (1977, §5.3) with ``curve_2`` as the cutting feed."""
+    segments = [{"span_deg": 60, "to": 40, "curve": {"type": "makino", "number": 1, "z": 0.9}},
+                {"span_deg": 120, "to": to, "curve": curve_2},
+                {"span_deg": 90, "to": 0, "curve": {"type": "named", "name": "48", "direction": "return"}},
+                {"span_deg": 90, "type": "dwell"}]
+    return "/v1/motions", {"motion": {"segments": segments}, "samples": 11}
+
+
 #: rule → (bodies that keep it, [(a body that breaks it, words of the app's 422)]).
 #: A model rule is named by its description in the document, a keyword by its JSON pointer.
 RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, dict[str, Any]], str]]]] = {
@@ -254,6 +275,48 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
     "/components/schemas/ProfileRequest/properties/cam_angle_deg/anyOf/0/minItems": (
         [("/v1/profiles", {"profile": profile(), "cam_angle_deg": [10]})],
         [(("/v1/profiles", {"profile": profile(), "cam_angle_deg": []}), "cam_angle_deg must list at least one angle")]),
+    # motion programs
+    "Makino curve 2 takes t4 and no other parameter": (
+        [cutting_feed({"type": "makino", "number": 2}), cutting_feed({"type": "makino", "number": 2, "t4": 0.9}, 53)],
+        [(cutting_feed({"type": "makino", "number": 2, "z": 0.5}), "Makino curve 2 takes no parameter z")]),
+    "give a polynomial name or boundary conditions, not both": (
+        [program(), program({"span_deg": 60, "to": 10, "curve": {"type": "polynomial", "name": "3-4-5"}})],
+        [(program({"span_deg": 60, "to": 10, "curve": {"type": "polynomial", "name": "3-4-5", "start": {"s": 0}}}),
+          "give a polynomial name or boundary conditions, not both")]),
+    "with one end omitted, the given one is normalised: s = 0 at the start, 1 at the end (a law in a program runs "
+    "from s = 0 to 1)": (
+        [program({"span_deg": 60, "to": 10, "curve": {"type": "polynomial", "start": {"s": 0, "v": 0, "a": 0}}})],
+        [(program({"span_deg": 60, "to": 10, "curve": {"type": "polynomial", "start": {"s": 0.5}}}),
+          "a law in a program runs from s = 0 to 1")]),
+    "a move gives to (absolute; null = solved) or stroke (relative), not both": (
+        [program({"span_deg": 60, "stroke": 10, "curve": POLY})],
+        [(program({"span_deg": 60, "to": 10, "stroke": 10, "curve": POLY}), "give to (absolute; null = solved) or "
+          "stroke (relative), not both"),
+         (program({"span_deg": 60, "curve": POLY}), "a move needs to (an absolute end position, or null to solve it)")]),
+    "a dwell holds its position; give it no to, stroke or curve": (
+        [program({"span_deg": 60, "type": "dwell"}, samples=None)],
+        [(program({"span_deg": 60, "type": "dwell", "curve": POLY}), "a dwell holds its position"),
+         (program({"span_deg": 60, "type": "dwell", "to": None}), "a dwell holds its position")]),
+    "match: jerk applies to a polynomial law with omitted start or end": (
+        [program({"span_deg": 60, "to": 10, "curve": POLY, "match": "jerk"})],
+        [(program({"span_deg": 60, "to": 10, "match": "jerk"}), "match applies to a polynomial law"),
+         (program({"span_deg": 60, "to": 10, "match": "jerk", "curve": {"type": "polynomial", "name": "3-4-5"}}),
+          "match applies to a polynomial law")]),
+    "to: null solves the stroke from the law's start velocity, so the law must be given in full (not matched to its "
+    "neighbours)": (
+        [cutting_feed({"type": "makino", "number": 2})],
+        [(cutting_feed(POLY), "so the law must be given in full"),
+         (cutting_feed({"type": "universal", "t": [0, 0, 0, 0, 0.5, 1, 1, 1], "v7": 0}),
+          "so the law must be given in full")]),
+    "a polynomial with omitted start/end, or curve 2 without t4, runs as a rise: give it direction 'rise'": (
+        [program({"span_deg": 60, "to": 10, "curve": {"type": "polynomial", "direction": "rise"}})],
+        [(program({"span_deg": 60, "to": 10, "curve": {"type": "polynomial", "direction": "return"}}),
+          "give it direction 'rise'"),
+         (cutting_feed({"type": "makino", "number": 2, "direction": "return"}), "give it direction 'rise'")]),
+    "give either samples or x_deg, not both": (
+        [program(samples=None, x_deg=[10])], [(program(x_deg=[10]), "give either samples or x_deg, not both")]),
+    "/components/schemas/MotionProgramRequest/properties/x_deg/anyOf/0/minItems": (
+        [program(samples=None, x_deg=[10])], [(program(samples=None, x_deg=[]), "x_deg must list at least one angle")]),
     "give max_pressure_angle_deg and/or min_radius_of_curvature_mm (a flat-faced follower may give neither)": (
         [base_circle(ROLLER, max_pressure_angle_deg=30), base_circle({"type": "flat-faced"})],
         [(base_circle(ROLLER), "give max_pressure_angle_deg and/or min_radius_of_curvature_mm")]),
@@ -349,6 +412,14 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     "these break points cannot reach both S7 and V7", "is outside the stroke of this curve",
     "displacement S is not monotone over its stroke", "the curve must move", "is outside the index",
     "One cam turn is", "The arm cannot be assembled",
+    # a motion program: its spans summed, two of its segments together (JSON Schema compares no two
+    # items), and what it turns out to be once resolved (strokes, solved T4, matched laws)
+    "but they must add up to period_deg", "vanishes against the master angle",
+    "each take their conditions from the other", "cannot be resolved in order", "a stroke of 0 with the law",
+    "no t4 in [0, 1) makes the acceleration continuous", "make the acceleration continuous at the end of this curve 2",
+    "but this law starts at rest", "ends at rest, so that stroke is 0", "(nearly) dependent, so no one spline",
+    "the law ends where it starts", "needs a stroke to scale its neighbours' velocities", "which is 0 here",
+    "the neighbours' velocities scaled to this universal curve are not finite", "where the program has no other segment",
     # a result beyond the range of float64
     "produced a non-finite number",
 )))
