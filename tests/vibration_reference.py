@@ -125,7 +125,9 @@ def _hermite_extreme(x0, d0, s0, x1, d1, s1, h):  # type: ignore[no-untyped-def]
 
     theta = np.clip(d0 / (d0 - d1), 0.0, 1.0)  # where the straight line through X' crosses 0
     for _ in range(8):
-        theta = np.clip(theta - dp(theta) / ddp(theta), 0.0, 1.0)
+        curvature = ddp(theta)
+        step = np.divide(dp(theta), curvature, out=np.zeros_like(theta), where=curvature != 0)
+        theta = np.clip(theta - step, 0.0, 1.0)
     return np.abs(p(theta))
 
 

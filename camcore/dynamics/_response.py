@@ -16,21 +16,24 @@ Duhamel integral w(u) = e^{λ(u−a)}·(w(a) − ∫_a^u e^{−λ(v−a)} A'(v) 
 the residual amplitude after the motion is |w(1)|/Ωd = √(X² + ((X' + ζΩX)/Ωd)²).
 
 The integral is evaluated on *subcells*: each smooth cell of A' is cut so that |λ|·length ≤
-:data:`SPAN`, and on each subcell the integrand, sampled at 32 Chebyshev–Lobatto points, is
+:data:`SPAN` = 4, and on each subcell the integrand, sampled at 32 Chebyshev–Lobatto points, is
 integrated as its interpolating polynomial, from the subcell's start to every node
-(camcore.dynamics._chebyshev). On a cell A' is a polynomial of degree 16 to 1e-13 of its
-largest value (_forcing.RESOLVED); e^{−λ(v−a)} over |λ|·length ≤ 2 is one of degree 15 to
-1e-16 (its Chebyshev coefficients are 2·I_k(1) ≈ 2^{1−k}/k!); their product is one of degree
-31, which 32 nodes interpolate exactly, so what is left out is the rounding of the
-samples. A velocity jump ΔV' at a break point (an impulse of A') changes w by −ΔV'.
+(camcore.dynamics._chebyshev). Why that is exact to rounding: on a cell A' is a polynomial of
+degree 16 whose last coefficients are below 1e-13 of its largest value (_forcing.RESOLVED);
+e^{−λ(v−a)} on a subcell is e^{zs}, s ∈ [−1, 1], |z| ≤ 2, whose Chebyshev coefficients
+2·I_k(z) are below 2/k! (2e-17 from k = 19). A coefficient of their product beyond degree 31,
+all that 32 nodes cannot hold, pairs an A' coefficient of degree ≤ 13 with an exponential one
+of degree ≥ 19, or an A' one of degree 14-16 (≤ 1e-13) with one of degree ≥ 16 (≤ 1e-13):
+together below 1e-15 of the largest A'. (The tests pass with |z| up to 10.)
+A velocity jump ΔV' at a break point (an impulse of A') changes w by −ΔV'.
 The subcells are chained by the recurrence above; the chaining is vectorised as a running
 sum, in stretches short enough (ζΩ·length ≤ :data:`CHAIN`) that e^{ζΩ·length} stays finite.
 
-The deviation is known at every node (≥ 60 nodes per natural period), with X' and X''
+The deviation is known at every node (≥ 30 per natural period), with X' and X''
 from the equation. Its largest |X| is refined where X' changes sign between two nodes
 whose |X| comes within the sampling bound (X''·δ²/8, doubled) of the largest sample: by a
 safeguarded Newton iteration on X' = 0 with X evaluated anywhere from the Chebyshev series
-of the integral, to the spacing of floating-point numbers.
+of the integral (camcore.dynamics._peak).
 
 References
 ----------
@@ -58,17 +61,16 @@ FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
 IndexArray = NDArray[np.intp]
 
-#: |λ|·length of a subcell at most (the module notes say why 2 with 32 nodes)
-SPAN = 2.0
+#: |λ|·length of a subcell at most (the module notes say why 4 with 32 nodes)
+SPAN = 4.0
 #: ζΩ·length of a stretch chained by one running sum at most: e^300 ≈ 1e130 stays finite
 CHAIN = 300.0
 #: τ values × subcells × nodes computed at once: 8 MB per complex array
 BATCH_ELEMENTS = 1 << 19
 #: intervals refined per τ for the peak at most (those with the largest samples first)
 MAX_CANDIDATES = 32
-#: Newton (or bisection) steps at most: bisection alone halves a node interval to the
-#: spacing of floating-point numbers in ~55 steps
-NEWTON_STEPS = 64
+#: Newton (or false-position) steps at most for the peak: it converges in a handful
+NEWTON_STEPS = 40
 
 
 @dataclass(frozen=True)
