@@ -15,6 +15,7 @@ References
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -261,3 +262,53 @@ def motion_work(laws: Sequence[LawCost | None], solved: int, rows: int, segments
         work += WorkEstimate((WorkTerm(segments_field, f"solving {solved} parameters", solved * MOTION_SOLVE_S),))
     slowest = max((law.sample_s for law in built), default=5e-8)
     return work + per_item_work(rows, MOTION_ROW_S + slowest, rows_field, f"{rows} motion rows")
+
+
+#: residual vibration (camcore.dynamics): one node of one subcell at one τ value, all of it
+#: (the Duhamel integrals, the chained state, the deviation and the peak's refinement);
+#: measured 0.09-0.16 µs for catalog, spline and Bezier curves at τ = 0.001-1000; ×1.5
+VIBRATION_NODE_S = 1.5 * 1.6e-7
+#: ... the residual amplitude alone (camcore.dynamics.residual_amplitude), measured ...; ×1.5
+VIBRATION_RESIDUAL_NODE_S = 1.5 * 0.6e-7
+#: nodes per subcell, and subcells of a curve's cell per unit of πτ (camcore.dynamics._response:
+#: a cell of length L is cut into ⌈Ω'·L/4⌉, Ω' ≤ 2Ω = 4πτ, so a curve of c cells into ≤ c + πτ)
+VIBRATION_NODES = 32
+
+
+def vibration_work(law: LawCost, cells: int, tau: Sequence[float], field: Field, peak: bool = True) -> WorkEstimate:
+    """The residual vibration of one curve at each τ (camcore.dynamics.residual_vibration).
+
+    Parameters
+    ----------
+    law : LawCost
+        The curve's cost (:func:`law_cost`): its ``sample_s`` prices each node's acceleration.
+    cells : int
+        Smooth cells of its acceleration, as estimated before it is built (a piece each for
+        closed forms, a spline interval each) [-].
+    tau : sequence of float
+        The τ values [-].
+    field : tuple
+        The request field of the τ values.
+    peak : bool
+        With the peak deviation (residual_vibration), or the residual amplitude alone
+        (residual_amplitude).
+
+    Returns
+    -------
+    WorkEstimate
+        One term [s].
+
+    References
+    ----------
+    camcore.dynamics._response (the subcells); the measurements beside :data:`VIBRATION_NODE_S`.
+    """
+    subcells = sum(cells + math.pi * t for t in tau)
+    # the acceleration at the nodes of each band of τ (Ω within a factor 2), at its largest τ
+    bands: dict[int, float] = {}
+    for t in tau:
+        band = max(0, math.floor(math.log2(2 * math.pi * t)))
+        bands[band] = max(bands.get(band, 0.0), t)
+    sampled = sum(cells + math.pi * t for t in bands.values())
+    per_node = VIBRATION_NODE_S if peak else VIBRATION_RESIDUAL_NODE_S
+    seconds = VIBRATION_NODES * (subcells * per_node + 1.5 * sampled * law.sample_s)
+    return WorkEstimate((WorkTerm(field, f"the response at {len(tau)} values of τ", seconds),))

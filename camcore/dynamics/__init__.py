@@ -2,7 +2,7 @@
 (:mod:`.vibration`) and of an indexer's load on an elastic drive train (:mod:`.indexer`)."""
 
 from .indexer import IndexerVibration, VibrationTable, indexer_vibration
-from .vibration import TAU_MAX, TAU_MIN, FollowerResponse, ResidualVibration, residual_vibration
+from .vibration import TAU_MAX, TAU_MIN, FollowerResponse, ResidualVibration, residual_amplitude, residual_vibration
 
 __all__ = ["TAU_MAX", "TAU_MIN", "FollowerResponse", "IndexerVibration", "ResidualVibration", "VibrationTable",
-           "indexer_vibration", "residual_vibration"]
+           "indexer_vibration", "residual_amplitude", "residual_vibration"]

@@ -50,6 +50,8 @@ MIN_CELL = 2.0**-30
 #: at most this many cells (a 10 000-point spline has 9 999): more means the acceleration is
 #: not smooth enough to integrate
 MAX_CELLS = 40_000
+#: what the errors are about: the curve argument (of residual_vibration, FollowerResponse)
+FIELD = ("curve",)
 #: a jump of S' at a break point larger than this is a step the follower cannot follow
 MAX_STEP = 1e-9
 
@@ -75,7 +77,8 @@ class Forcing:
         self.d_t = curve.t_end - curve.t_start
         self.d_s = curve.s_end - curve.s_start
         if not (math.isfinite(self.d_s) and self.d_s != 0 and self.d_t > 0):
-            raise InvalidParameterError("the curve must move (S at T7 different from S at T0) to excite a follower.")
+            raise InvalidParameterError("the curve must move (S at T7 different from S at T0) to excite a follower.",
+                                        field=FIELD)
         self.accel_factor = self.d_t**2 / self.d_s
         bounds = (curve.break_points - self.t0) / self.d_t
         bounds[0], bounds[-1] = 0.0, 1.0
@@ -108,7 +111,7 @@ class Forcing:
             i = int(np.argmax(step))
             raise InvalidParameterError(
                 f"the curve's displacement jumps by {float(step[i]):.3g} of its stroke at T = "
-                f"{self.t0 + self.d_t * float(u[i]):.6g}: a follower cannot follow a step.")
+                f"{self.t0 + self.d_t * float(u[i]):.6g}: a follower cannot follow a step.", field=FIELD)
         return u, v_right - v_left
 
     def _cells(self) -> tuple[FloatArray, FloatArray, IndexArray]:
@@ -123,14 +126,15 @@ class Forcing:
             if sum(d[0].size for d in done) + lo.size > MAX_CELLS:
                 raise InvalidParameterError(
                     f"the curve's acceleration is not smooth enough to integrate the follower's response: "
-                    f"more than {MAX_CELLS} cells would be needed.")
+                    f"more than {MAX_CELLS} cells would be needed.", field=FIELD)
             u = lo[:, None] + (hi - lo)[:, None] * (1.0 + cheb.RESOLVE_LOBATTO) / 2.0
             t = self.t0 + self.d_t * u.ravel()
             _s, _v, a, j = self.curve.eval_pieces(t, np.repeat(piece, cheb.RESOLVE_NODES), 3)
             values = (a * self.accel_factor).reshape(u.shape)
             slopes = np.abs(j * (self.accel_factor * self.d_t)).reshape(u.shape)
             if not (np.isfinite(values).all() and np.isfinite(slopes).all()):
-                raise InvalidParameterError("the curve's acceleration is not finite everywhere on the motion.")
+                raise InvalidParameterError("the curve's acceleration is not finite everywhere on the motion.",
+                                            field=FIELD)
             scale = max(scale, float(np.abs(values).max()))  # the largest |A'| seen so far
             tail = np.abs(values @ cheb.RESOLVE_COEFFICIENTS.T)[:, -3:].max(axis=1)
             # rounding: A' is known to ~eps of itself, and u to ~eps, which moves A' by eps·|dA'/du|
@@ -141,7 +145,7 @@ class Forcing:
                 i = int(np.flatnonzero(narrow & ~resolved)[0])
                 raise InvalidParameterError(
                     f"the curve's acceleration is not smooth near T = {self.t0 + self.d_t * float(lo[i]):.6g} "
-                    f"(a near-vertical tangent?): the follower's response cannot be integrated there.")
+                    f"(a near-vertical tangent?): the follower's response cannot be integrated there.", field=FIELD)
             done.append((lo[resolved], hi[resolved], piece[resolved]))
             split = ~resolved
             mid = (lo[split] + hi[split]) / 2.0

@@ -26,7 +26,9 @@ References
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -38,6 +40,7 @@ from ..results import doc, table_columns
 from .vibration import TAU_MAX, TAU_MIN, FollowerResponse, check_damping
 
 FloatArray = NDArray[np.float64]
+T = TypeVar("T")
 
 
 @dataclass(frozen=True)
@@ -74,7 +77,15 @@ class IndexerVibration:
         "after the index ends, until the envelope A·e^{−ζωn·t} stays within ε: ln(A/ε)/(ζωn), 0 when "
         "A ≤ ε; null when it never does (ζ = 0 and A > ε) [s]"))
     settles_within_dwell: bool = field(metadata=doc("settling_time_s ≤ dwell_time_s"))
-    table: VibrationTable = field(metadata=doc("the error over the index and the dwell"))
+    table: VibrationTable = field(metadata={"internal": True, **doc("the error over the index and the dwell")})
+
+
+def _located(check: Callable[[str, Any], T], name: str, value: Any) -> T:
+    """``check(name, value)`` with its error located at the argument ``name``."""
+    try:
+        return check(name, value)
+    except InvalidParameterError as exc:
+        raise InvalidParameterError(str(exc), field=(name,)) from None
 
 
 def indexer_vibration(indexer: Indexer, inertia_kgm2: float, stiffness_nm_rad: float, damping_ratio: float = 0.0,
@@ -111,11 +122,11 @@ def indexer_vibration(indexer: Indexer, inertia_kgm2: float, stiffness_nm_rad: f
     ----------
     Koster (1974), ch. 2; INDEXMAN technical guide, sections 2, 3 and 5.
     """
-    inertia = positive("inertia_kgm2", inertia_kgm2)
-    stiffness = positive("stiffness_nm_rad", stiffness_nm_rad)
+    inertia = _located(positive, "inertia_kgm2", inertia_kgm2)
+    stiffness = _located(positive, "stiffness_nm_rad", stiffness_nm_rad)
     zeta = check_damping(damping_ratio)
-    tolerance = positive("tolerance_arcsec", tolerance_arcsec)
-    rows = count("samples", samples)
+    tolerance = _located(positive, "tolerance_arcsec", tolerance_arcsec)
+    rows = _located(count, "samples", samples)
     if rows < 2:
         raise InvalidParameterError(f"samples must be at least 2, got {rows}.", field=("samples",))
     omega_n = math.sqrt(stiffness / inertia)
@@ -127,7 +138,11 @@ def indexer_vibration(indexer: Indexer, inertia_kgm2: float, stiffness_nm_rad: f
             f"τ = th·fn = {th:.6g} s × {frequency:.6g} Hz = {tau:.6g} must lie within {TAU_MIN:g} ≤ τ ≤ {TAU_MAX:g}: "
             "change stiffness_nm_rad or the load's inertia (τ < 0.001: the load does not follow the cam at all; "
             "τ > 1000: the drive is rigid, nothing vibrates).", field=("stiffness_nm_rad",))
-    response = FollowerResponse(indexer.curve, tau, zeta)
+    try:
+        response = FollowerResponse(indexer.curve, tau, zeta)
+    except InvalidParameterError as exc:  # about the indexer's curve
+        exc.field = ("indexer", *exc.field)
+        raise
     h = indexer.displacement_deg * 3600.0
     dwell = max(0.0, indexer.machine_cycle_time_s - th)
     residual = h * response.residual_amplitude
