@@ -1,7 +1,7 @@
 """The response of a single-degree-of-freedom follower to a cam motion, exact to rounding.
 
-Model (Koster 1974, ch. 2; Norton 2009, ch. 10): the follower (or an indexer's load) is a
-mass on a spring of natural frequency ω and damping ratio ζ, driven through the spring by
+Model (the single-degree-of-freedom follower, Koster (1974)): the follower (or an indexer's
+load) is a mass on a spring of natural frequency ω and damping ratio ζ, driven through the spring by
 the cam motion s(t) = h·S(t/th). Its deviation x = y − s from the cam's motion obeys
 
     ẍ + 2ζω·ẋ + ω²·x = −s̈,   x(0) = ẋ(0) = 0   (from rest: the follower moves with the cam)
@@ -37,12 +37,10 @@ of the integral (camcore.dynamics._peak).
 
 References
 ----------
-.. [1] M. P. Koster, *Vibrations of Cam Mechanisms* (Macmillan, 1974), ch. 2: the
-   single-degree-of-freedom follower model, the response to the cam's acceleration
-   (Duhamel's integral) and the residual vibration after the motion.
-.. [2] R. L. Norton, *Cam Design and Manufacturing Handbook*, 2nd ed. (Industrial Press,
-   2009), ch. 10 (cam-follower dynamics, residual vibration).
-.. [3] L. N. Trefethen, *Approximation Theory and Approximation Practice* (SIAM, 2013),
+.. [1] M. P. Koster, *Vibrations of Cam Mechanisms* (1974): the single-degree-of-freedom
+   follower and its residual vibration (docs/sources.md says what was checked). The
+   complex state and Duhamel's integral are those of any linear oscillator.
+.. [2] L. N. Trefethen, *Approximation Theory and Approximation Practice* (SIAM, 2013),
    ch. 8 and 19 (convergence and integration of Chebyshev interpolants).
 """
 

@@ -17,8 +17,8 @@ Angles here are in arc-seconds [arcsec]: h = 3600·(360/n) for n stops.
 
 References
 ----------
-.. [1] M. P. Koster, *Vibrations of Cam Mechanisms* (Macmillan, 1974), ch. 2 (the
-   single-degree-of-freedom model, residual vibration).
+.. [1] M. P. Koster, *Vibrations of Cam Mechanisms* (1974): the single-degree-of-freedom
+   model and its residual vibration (docs/sources.md).
 .. [2] INDEXMAN technical guide, sections 2, 3 and 5 (h = 360/n, th = (θh/360)·(60/N), the
    dwell t0 − th, the input stop ts); camcore.indexer.kinematics.
 """
@@ -120,7 +120,7 @@ def indexer_vibration(indexer: Indexer, inertia_kgm2: float, stiffness_nm_rad: f
 
     References
     ----------
-    Koster (1974), ch. 2; INDEXMAN technical guide, sections 2, 3 and 5.
+    Koster (1974); INDEXMAN technical guide, sections 2, 3 and 5.
     """
     inertia = _located(positive, "inertia_kgm2", inertia_kgm2)
     stiffness = _located(positive, "stiffness_nm_rad", stiffness_nm_rad)

@@ -14,10 +14,8 @@ Known values: the undamped cycloid leaves 0.5 at τ = 1 and nothing at every int
 
 References
 ----------
-.. [1] M. P. Koster, *Vibrations of Cam Mechanisms* (Macmillan, 1974), ch. 2 (the
-   single-degree-of-freedom model; residual vibration over τ = th/tn).
-.. [2] R. L. Norton, *Cam Design and Manufacturing Handbook*, 2nd ed. (Industrial Press,
-   2009), ch. 10 (residual vibration spectra of the standard curves).
+.. [1] M. P. Koster, *Vibrations of Cam Mechanisms* (1974): the single-degree-of-freedom
+   follower, residual vibration over the motion time in natural periods (docs/sources.md).
 """
 
 from __future__ import annotations
@@ -65,7 +63,7 @@ def check_damping(damping_ratio: float) -> float:
 
     References
     ----------
-    Koster (1974), ch. 2: the model is underdamped (ζ < 1); at ζ ≥ 1 there is no vibration
+    Koster (1974); the model here is underdamped (ζ < 1); at ζ ≥ 1 there is no vibration
     and no envelope √(x² + ((ẋ + ζωx)/ωd)²), since ωd = ω·√(1 − ζ²) vanishes.
     """
     zeta = finite("damping_ratio", damping_ratio)
@@ -93,7 +91,7 @@ def check_tau(tau: ArrayLike, name: str = "tau") -> FloatArray:
 
     References
     ----------
-    Koster (1974), ch. 2 (τ, the motion time over the natural period).
+    Koster (1974) (τ, the motion time over the natural period).
     """
     values = np.asarray(tau, dtype=np.float64).reshape(-1)
     if values.size == 0:
@@ -148,7 +146,7 @@ def residual_vibration(curve: Curve, tau: ArrayLike, damping_ratio: float = 0.0)
 
     References
     ----------
-    Koster (1974), ch. 2; Norton (2009), ch. 10 (residual vibration spectra); the method:
+    Koster (1974) (the model, residual vibration); the method:
     camcore.dynamics._response.
     """
     values = check_tau(tau)
@@ -176,7 +174,7 @@ def residual_amplitude(curve: Curve, tau: ArrayLike, damping_ratio: float = 0.0)
 
     References
     ----------
-    Koster (1974), ch. 2; the method: camcore.dynamics._response.
+    Koster (1974); the method: camcore.dynamics._response.
     """
     return _spectrum(curve, check_tau(tau), check_damping(damping_ratio), False)[0]
 

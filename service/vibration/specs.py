@@ -33,7 +33,7 @@ class TauRange(Spec):
 class VibrationRequest(Spec):
     model_config = examples(
         {"curve": MS_SPEC, "damping_ratio": 0, "tau_range": {"start": 0.5, "stop": 10, "samples": 96}},
-        rules=[rule("give either tau (a list) or tau_range, not both", exactly_one("tau", "tau_range"))])
+        rules=[rule("give either tau (a list of values) or tau_range: one of them, not both", exactly_one("tau", "tau_range"))])
     curve: CurveSpec
     damping_ratio: DampingRatio = Field(0.0, description="ζ, 0 ≤ ζ < 1 (underdamped; ζ ≥ 1 is refused)")
     # minItems states the validator's rule in the schema (the validator gives the sentence)
@@ -44,7 +44,7 @@ class VibrationRequest(Spec):
     @model_validator(mode="after")
     def _check(self) -> VibrationRequest:
         if (self.tau is None) == (self.tau_range is None):
-            raise ValueError("give either tau (a list) or tau_range, not both")
+            raise ValueError("give either tau (a list of values) or tau_range: one of them, not both")
         if self.tau is not None and len(self.tau) == 0:
             raise ValueError("tau must list at least one value")
         return self
@@ -54,7 +54,7 @@ class IndexerVibrationRequest(Spec):
     model_config = examples(
         {"indexer": INDEXER_EXAMPLE, "inertia_kgm2": 2.25, "stiffness_nm_rad": 2e5, "damping_ratio": 0.05,
          "tolerance_arcsec": 10},
-        rules=[rule("give the load's inertia as inertia_kgm2 or as a load, not both",
+        rules=[rule("give the load's inertia as inertia_kgm2 or as load: one of them, not both",
                     exactly_one("inertia_kgm2", "load"))])
     indexer: IndexerSpec
     inertia_kgm2: PositiveQuantity | None = Field(None, description="I, the load inertia on the output")
@@ -68,7 +68,7 @@ class IndexerVibrationRequest(Spec):
     @model_validator(mode="after")
     def _check(self) -> IndexerVibrationRequest:
         if (self.inertia_kgm2 is None) == (self.load is None):
-            raise ValueError("give the load's inertia as inertia_kgm2 or as a load, not both")
+            raise ValueError("give the load's inertia as inertia_kgm2 or as load: one of them, not both")
         return self
 
 

@@ -151,6 +151,17 @@ def cutting_feed(curve_2: dict[str, Any], to: float | None = None) -> tuple[str,
     return "/v1/motions", {"motion": {"segments": segments}, "samples": 11}
 
 
+def vibration(**fields: Any) -> tuple[str, dict[str, Any]]:
+    return "/v1/curves/vibration", {"curve": MS, **fields}
+
+
+def indexer_vibration(**fields: Any) -> tuple[str, dict[str, Any]]:
+    return "/v1/indexers/vibration", {"indexer": INDEXER, "stiffness_nm_rad": 2e5, "tolerance_arcsec": 10, **fields}
+
+
+TAU_RANGE = {"start": 0.5, "stop": 5, "samples": 10}
+
+
 #: rule → (bodies that keep it, [(a body that breaks it, words of the app's 422)]).
 #: A model rule is named by its description in the document, a keyword by its JSON pointer.
 RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, dict[str, Any]], str]]]] = {
@@ -195,6 +206,17 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
         [table(t=[0.5]), table(samples=11)], [(table(samples=11, t=[0.5]), "give either samples or t, not both")]),
     "/components/schemas/TableRequest/properties/t/anyOf/0/minItems": (
         [table(t=[0.5])], [(table(t=[]), "t must list at least one time")]),
+    # residual vibration
+    "give either tau (a list of values) or tau_range: one of them, not both": (
+        [vibration(tau=[1, 2]), vibration(tau_range=TAU_RANGE)],
+        [(vibration(), "give either tau (a list of values) or tau_range"),
+         (vibration(tau=[1], tau_range=TAU_RANGE), "give either tau (a list of values) or tau_range")]),
+    "/components/schemas/VibrationRequest/properties/tau/anyOf/0/minItems": (
+        [vibration(tau=[1])], [(vibration(tau=[]), "tau must list at least one value")]),
+    "give the load's inertia as inertia_kgm2 or as load: one of them, not both": (
+        [indexer_vibration(inertia_kgm2=2.25), indexer_vibration(load={"parts": [DISC]})],
+        [(indexer_vibration(), "give the load's inertia as inertia_kgm2 or as load"),
+         (indexer_vibration(inertia_kgm2=2.25, load={"parts": [DISC]}), "give the load's inertia as inertia_kgm2")]),
     # indexer and load
     "give exactly one of stops (n) and swing_angle_deg (ψ, oscillating units)": (
         [indexer(), indexer(stops=None, swing_angle_deg=60)],
@@ -420,6 +442,10 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     "but this law starts at rest", "ends at rest, so that stroke is 0", "(nearly) dependent, so no one spline",
     "the law ends where it starts", "needs a stroke to scale its neighbours' velocities", "which is 0 here",
     "the neighbours' velocities scaled to this universal curve are not finite", "where the program has no other segment",
+    # residual vibration: τ = th·fn from the indexer, the load and the stiffness together; a load's
+    # inertia summed over its parts; what the curve's acceleration turns out to be
+    "must lie within 0.001 ≤ τ ≤ 1000: change stiffness_nm_rad", "the load's inertia must be greater than 0",
+    "the curve's acceleration is not", "the curve's displacement jumps",
     # a result beyond the range of float64
     "produced a non-finite number",
 )))
