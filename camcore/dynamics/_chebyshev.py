@@ -76,3 +76,15 @@ def clenshaw(coefficients: ComplexArray, s: FloatArray) -> ComplexArray:
         b1, b2 = coefficients[:, k] + two_s * b1 - b2, b1
     result: ComplexArray = coefficients[:, 0] + s * b1 - b2
     return result
+
+
+def clenshaw_rows(table: ComplexArray, rows: NDArray[np.intp], s: FloatArray) -> ComplexArray:
+    """Σ_k table[rows, k]·T_k(s): the series of row ``rows[i]`` of ``table`` at ``s[i]``, one
+    column gathered at a time (no (points × terms) copy of the table)."""
+    b1 = np.zeros(s.shape, dtype=table.dtype)
+    b2 = np.zeros(s.shape, dtype=table.dtype)
+    two_s = 2.0 * s
+    for k in range(table.shape[1] - 1, 0, -1):
+        b1, b2 = table[rows, k] + two_s * b1 - b2, b1
+    result: ComplexArray = table[rows, 0] + s * b1 - b2
+    return result

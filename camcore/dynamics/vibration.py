@@ -34,7 +34,7 @@ from ..results import doc, table_columns
 from . import _chebyshev as cheb
 from ._forcing import Forcing
 from ._peak import peak_deviation
-from ._response import BATCH_ELEMENTS, Damping, Solution, series, solve, state_at, subcells
+from ._response import BATCH_ELEMENTS, Damping, Solution, series, solve, subcells
 
 FloatArray = NDArray[np.float64]
 
@@ -231,6 +231,7 @@ class FollowerResponse:
         self.solution: Solution = solve(subcells(self.forcing, omega), self.damping)
         self.residual_amplitude = float(self.solution.residual[0])
         self.peak_deviation = float(peak_deviation(self.solution, self.forcing)[0])
+        self._series: NDArray[np.complex128] | None = None
 
     def deviation(self, u: ArrayLike) -> FloatArray:
         """X = x/h at the times u = t/th ≥ 0 [-]; after u = 1 the free vibration of the final state."""
@@ -239,14 +240,18 @@ class FollowerResponse:
             raise InvalidParameterError("u must be finite and 0 or more.")
         out = np.empty(at.size)
         inside = at <= 1.0
-        sub = self.solution.sub
+        d = self.damping
         if inside.any():
+            sub = self.solution.sub
+            if self._series is None:  # the integral's Chebyshev series on every subcell, once
+                every = np.arange(sub.count)
+                self._series = series(self.solution, np.zeros(sub.count, dtype=np.intp), every)
             cell = np.clip(np.searchsorted(sub.start, at[inside], side="right") - 1, 0, sub.count - 1)
-            s = np.clip(at[inside] - sub.start[cell], 0.0, 2.0 * sub.half[cell]) / sub.half[cell] - 1.0
-            batch = np.zeros(cell.size, dtype=np.intp)
-            out[inside] = state_at(self.solution, self.forcing, batch, cell, series(self.solution, batch, cell), s)[0]
+            offset = np.clip(at[inside] - sub.start[cell], 0.0, 2.0 * sub.half[cell])
+            s = offset / sub.half[cell] - 1.0
+            w = np.exp(d.lam[0] * offset) * (self.solution.w_start[0, cell] - cheb.clenshaw_rows(self._series, cell, s))
+            out[inside] = w.imag / d.omega_d[0]
         if (~inside).any():
-            d = self.damping
             w = np.exp(d.lam[0] * (at[~inside] - 1.0)) * self.solution.w_end[0]
             out[~inside] = w.imag / d.omega_d[0]
         return out

@@ -208,3 +208,10 @@ async def test_bad_chart_queries(client: httpx.AsyncClient, params: dict[str, ob
     r = await client.get(CHART, params=params)
     assert r.status_code == status, r.text
     assert any(e["loc"][:len(loc)] == loc for e in r.json()["errors"]), r.text
+
+
+@pytest.mark.parametrize("fmt", ["svg", "png"])
+async def test_the_default_chart_fits_the_default_budget(client: httpx.AsyncClient, fmt: str) -> None:
+    # five curves, 781 values of τ each, from 0.5 to 20: what a link without a query draws
+    r = await client.get(CHART, params={"format": fmt})
+    assert r.status_code == 200, r.text
