@@ -25,6 +25,8 @@ TABLE_COLUMNS = 2
 #: smooth cells of a closed-form curve's acceleration, at most: one per piece (camcore's catalog
 #: and Makino's curves have ≤ 7), each a polynomial of degree 16 to rounding (measured)
 CLOSED_FORM_CELLS = 8
+#: the kinds in closed form: built in a few ms, before the limits are checked (check_spec)
+CLOSED_FORM_KINDS = ("named", "makino", "universal", "polynomial")
 #: a Bezier curve of degree d: 2·d + 8 cells (measured at most 35 over 300 random curves of
 #: degree ≤ 20; a near-vertical tangent needs more, which the deadline stops)
 BEZIER_CELLS_PER_DEGREE = 2
@@ -66,10 +68,18 @@ class VibrationService:
         """413 when a spectrum asks for more τ values than the setting allows."""
         self.curves.check_limit("number of τ values", count, self.curves.settings.max_vibration_tau_values, field)
 
+    def check_spec(self, spec: CurveSpec, at: tuple[str | int, ...]) -> None:
+        """A closed-form curve is built now, through the cache (a few ms): Makino's curves check
+        their parameters only when built, and a spec that breaks its own rules is a 422 before
+        any size limit is a 413."""
+        if spec.type in CLOSED_FORM_KINDS:
+            self.curves.curve(spec, at)
+
     def spectrum_work(self, spec: CurveSpec, tau: list[float] | None, tau_range: TauRange | None, csv: bool,
                       at: tuple[str | int, ...] = ("curve",), peak: bool = True) -> WorkEstimate:
         """A spectrum: the τ count first (413), the curve, the response at each τ (the residual
         amplitude alone unless ``peak``), the columns encoded."""
+        self.check_spec(spec, at)
         field = tau_field(tau)
         count = len(tau) if tau is not None else tau_range.samples  # type: ignore[union-attr]
         self.check_tau_count(count, field)
@@ -81,9 +91,10 @@ class VibrationService:
     def indexer_work(self, body: IndexerVibrationRequest, csv: bool) -> WorkEstimate:
         """One τ (known once the inertia is: estimated at the largest τ the range allows is
         too much, so at the τ of the request's numbers) and the table."""
+        spec = body.indexer.curve
+        self.check_spec(spec, ("indexer", "curve"))
         settings = self.curves.settings
         self.curves.check_limit("table samples", body.samples, settings.max_table_samples, ("samples",))
-        spec = body.indexer.curve
         law = self.curves.law(spec, ("indexer", "curve"))
         tau = self._tau_guess(body)
         return (curve_work(law, ("indexer", "curve"))
