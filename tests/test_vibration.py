@@ -219,3 +219,23 @@ def test_the_spectrum_keeps_the_order_of_tau() -> None:
     for k, single in enumerate(one_by_one):
         assert shuffled.residual_amplitude[k] == pytest.approx(single.residual_amplitude[0], rel=1e-12, abs=1e-16)
         assert shuffled.peak_deviation[k] == pytest.approx(single.peak_deviation[0], rel=1e-12, abs=1e-16)
+
+
+def test_at_the_largest_tau_every_catalog_curve_is_rigid() -> None:
+    # docs/api.md bounds τ at 1000 because there the follower is rigid for every purpose: the
+    # residual of every catalog curve is below 1e-6 of the stroke (the largest, ~4e-7, is the
+    # constant-acceleration curve's: its acceleration jumps by 4, 8 and 4, each leaving ~ΔA/Ω²)
+    tau = np.linspace(990.0, TAU_MAX, 5)
+    for name, curve in zip(NAMES, CATALOG, strict=True):
+        assert camcore.dynamics.residual_amplitude(curve, tau, 0.0).max() < 1e-6, name
+
+
+def test_the_residual_alone_is_the_spectrum_s_column() -> None:
+    tau = np.linspace(0.01, 40, 300)
+    for name in ("MS", "trapecloid-2", "no-dwell-modified-trapezoid"):
+        curve = camcore.named_curve(name)
+        full = residual_vibration(curve, tau, 0.07).residual_amplitude
+        alone = camcore.dynamics.residual_amplitude(curve, tau, 0.07)
+        # the same integrals summed by the Clenshaw–Curtis weights instead of the last row of the
+        # cumulative matrix: the same to rounding
+        assert np.allclose(alone, full, rtol=1e-12, atol=1e-16), name
