@@ -31,6 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..curves.curve import Curve
+from ..deadline import checkpoint
 from ..errors import InvalidParameterError
 from . import _chebyshev as cheb
 
@@ -123,6 +124,7 @@ class Forcing:
         done: list[tuple[FloatArray, FloatArray, IndexArray]] = []
         scale = 0.0
         while lo.size:
+            checkpoint()
             if sum(d[0].size for d in done) + lo.size > MAX_CELLS:
                 raise InvalidParameterError(
                     f"the curve's acceleration is not smooth enough to integrate the follower's response: "
