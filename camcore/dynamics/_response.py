@@ -1,8 +1,8 @@
 """The response of a single-degree-of-freedom follower to a cam motion, exact to rounding.
 
 Model (the single-degree-of-freedom follower, Koster (1974)): the follower (or an indexer's
-load) is a mass on a spring of natural frequency ω and damping ratio ζ, driven through the spring by
-the cam motion s(t) = h·S(t/th). Its deviation x = y − s from the cam's motion obeys
+load) is a mass on a spring of natural frequency ω and damping ratio ζ, driven through the
+spring by the cam motion s(t) = h·S(t/th). Its deviation x = y − s from the cam's motion obeys
 
     ẍ + 2ζω·ẋ + ω²·x = −s̈,   x(0) = ẋ(0) = 0   (from rest: the follower moves with the cam)
 
@@ -21,10 +21,11 @@ integrated as its interpolating polynomial, from the subcell's start to every no
 (camcore.dynamics._chebyshev). Why that is exact to rounding: on a cell A' is a polynomial of
 degree 16 whose last coefficients are below 1e-13 of its largest value (_forcing.RESOLVED);
 e^{−λ(v−a)} on a subcell is e^{zs}, s ∈ [−1, 1], |z| ≤ 2, whose Chebyshev coefficients
-2·I_k(z) are below 2/k! (2e-17 from k = 19). A coefficient of their product beyond degree 31,
-all that 32 nodes cannot hold, pairs an A' coefficient of degree ≤ 13 with an exponential one
-of degree ≥ 19, or an A' one of degree 14-16 (≤ 1e-13) with one of degree ≥ 16 (≤ 1e-13):
-together below 1e-15 of the largest A'. (The tests pass with |z| up to 10.)
+2·I_k(z) are below 2e/k! (5e-17 from k = 19, 3e-13 from k = 16). A coefficient of their
+product beyond degree 31, all that 32 nodes cannot hold (T_j·T_m = (T_{j+m} + T_{|j−m|})/2),
+pairs an A' coefficient of degree ≤ 13 with an exponential one of degree ≥ 19, or an A' one
+of degree 14-16 (≤ 1e-13) with one of degree ≥ 16: together below 1e-15 of the largest A'.
+(The tests pass with |z| up to 10: the bound is far from tight.)
 A velocity jump ΔV' at a break point (an impulse of A') changes w by −ΔV'.
 The subcells are chained by the recurrence above; the chaining is vectorised as a running
 sum, in stretches short enough (ζΩ·length ≤ :data:`CHAIN`) that e^{ζΩ·length} stays finite.
