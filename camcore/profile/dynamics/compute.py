@@ -63,6 +63,10 @@ from .results import DynamicsSummary, DynamicsTable, FollowerDynamics
 #: below the rounding of the torque itself
 GAUSS_NODES = 8
 RMS_CELL_RAD = math.radians(1.0)
+#: ``separates`` needs the force below the margin by more than this share of the largest force: a
+#: minimum that meets the margin exactly (a preload of ``min_preload_n``, the jump speed itself)
+#: comes out a few ulp either side of it
+SEPARATION_ROUNDING = 1e-12
 
 
 @dataclass(frozen=True)
@@ -266,7 +270,7 @@ def follower_dynamics(spec: CamSpec, load: FollowerLoad, speed_rpm: float, sampl
         safety_margin_n=margin,
         min_contact_force_n=float(-best[0]),
         min_contact_force_at_deg=float(at_deg[0]),
-        separates=bool(-best[0] < margin),
+        separates=bool(-best[0] < margin - SEPARATION_ROUNDING * max(abs(best[0]), abs(best[3]), margin)),
         jump_speed_rpm=float(jump * 60.0 / (2.0 * math.pi)) if math.isfinite(jump) else None,
         jump_at_deg=float(at_deg[2]) if math.isfinite(jump) else None,
         min_preload_n=None if follower.oscillating else float(min_preload),

@@ -60,7 +60,8 @@ class DynamicsSummary:
     min_contact_force_n: float = field(metadata=doc("smallest contact force over the turn [N]"))
     min_contact_force_at_deg: float = field(metadata=doc("where [deg]"))
     separates: bool = field(metadata=doc(
-        "the contact force falls below the safety margin somewhere at this speed (the follower jumps)"))
+        "the contact force falls below the safety margin somewhere at this speed (the follower jumps); a minimum "
+        "within 1e-12 of the largest force of the margin counts as meeting it (rounding)"))
     jump_speed_rpm: float | None = field(metadata=doc(
         "the lowest camshaft speed at which the contact force first falls to the safety margin, damping "
         "included (relative accuracy 1e-9); 0 when the spring cannot hold the follower even at rest; null when no "
