@@ -47,36 +47,6 @@ from ..errors import InvalidParameterError, StrokeRangeError
 from .results import IndexerMotion, IndexerPosition, MotionSummary, MotionTable
 
 
-def accuracy_mm(arc_seconds: ArrayLike, radius_mm: ArrayLike) -> Any:
-    """Angular indexing accuracy converted to a length at a radius.
-
-    Parameters
-    ----------
-    arc_seconds : float or array_like
-        Angular error θ (may be signed, ±) [arcsec].
-    radius_mm : float or array_like
-        Radius r at which the error is measured (≥ 0) [mm].
-
-    Returns
-    -------
-    float or ndarray
-        Arc length x = 2π·r·θ/(360·60·60) [mm]; a float for scalar input.
-
-    References
-    ----------
-    INDEXMAN technical guide, 计算分度精度 (last table): x = 2πr·θ/(360×60×60)
-    = 0.00000485·r·θ; e.g. 90″ at 300 mm → 0.131 mm.
-    """
-    theta = np.asarray(arc_seconds, dtype=np.float64)
-    r = np.asarray(radius_mm, dtype=np.float64)
-    if not (np.all(np.isfinite(theta)) and np.all(np.isfinite(r))):
-        raise InvalidParameterError("arc_seconds and radius_mm must be finite numbers.")
-    if np.any(r < 0):
-        raise InvalidParameterError("radius_mm must be 0 or more.")
-    x = 2.0 * math.pi * r * theta / (360.0 * 3600.0)
-    return float(x) if x.ndim == 0 else x
-
-
 def check_alternatives(stops: Any, swing_angle_deg: Any, speed_rpm: Any, cycle_time_s: Any) -> None:
     """Exactly one of stops and swing angle, and exactly one of speed and cycle time.
 
@@ -97,6 +67,23 @@ def check_alternatives(stops: Any, swing_angle_deg: Any, speed_rpm: Any, cycle_t
     """
     if (stops is None) == (swing_angle_deg is None):
         raise InvalidParameterError("give exactly one of stops (n) and swing_angle_deg (ψ, oscillating units).")
+    check_speed_alternatives(speed_rpm, cycle_time_s)
+
+
+def check_speed_alternatives(speed_rpm: Any, cycle_time_s: Any) -> None:
+    """Exactly one of speed and cycle time.
+
+    Parameters
+    ----------
+    speed_rpm : float or None
+        N, input speed [rpm].
+    cycle_time_s : float or None
+        t0, unit cycle time [s].
+
+    References
+    ----------
+    INDEXMAN technical guide, section 3 (t0 = 60/(N·z)).
+    """
     if (speed_rpm is None) == (cycle_time_s is None):
         raise InvalidParameterError("give exactly one of speed_rpm (N) and cycle_time_s (t0 = 60/(N·z)).")
 

@@ -7,12 +7,13 @@ from typing import Any, Literal
 import numpy as np
 
 import camcore
-from camcore.errors import NonMonotoneError
+from camcore.errors import InvalidParameterError, NonMonotoneError
 from camcore.results import as_dict
-from camcore.work import WorkEstimate, curve_work, per_item_work
+from camcore.work import WorkEstimate, curve_work, motion_work, per_item_work
 from service.curves.service import CurveService
 from service.errors import within
 from service.indexers.specs import IndexerSpec, LoadSpec
+from service.motions.service import MotionService
 from service.responses import encode_cost
 
 #: columns of the motion table and of a position answer (angles, times, ω, α, jerk…)
@@ -20,17 +21,30 @@ MOTION_COLUMNS = 8
 #: one row of the motion table or one position beyond the curve's own evaluation: angle
 #: and time scaling (measured 0.5 µs per row at 2e5 rows), ×1.5
 ROW_S = 1.5 * 5e-7
+#: where a timing chart is in the request
+TIMING = ("indexer", "timing")
 
 
 class IndexerService:
     """Indexer motion, position lookup and sizing, using the curve cache of ``curves``."""
 
-    def __init__(self, curves: CurveService):
+    def __init__(self, curves: CurveService, motions: MotionService):
         self.curves = curves
+        self.motions = motions
 
     # ------------------------------------------------------------------ work estimates
+    def _timing_work(self, spec: IndexerSpec, rows: int, rows_field: tuple[str, ...]) -> WorkEstimate:
+        """A timing chart resolved and evaluated at ``rows`` input angles (the chart's laws
+        and its solved parameters, camcore.work.motion_work)."""
+        assert spec.timing is not None
+        laws, solved = self.motions.laws(spec.timing, at=TIMING)
+        return motion_work(laws, solved, rows, (*TIMING, "segments"), rows_field)
+
     def motion_work(self, spec: IndexerSpec, samples: int, csv: bool) -> WorkEstimate:
         self.curves.check_limit("table samples", samples, self.curves.settings.max_table_samples, ("samples",))
+        if spec.timing is not None:
+            return self._timing_work(spec, samples, ("samples",)) + per_item_work(
+                samples, ROW_S + encode_cost(MOTION_COLUMNS, csv), ("samples",), f"{samples} table rows")
         law = self.curves.law(spec.curve, at=("indexer", "curve"))
         return curve_work(law, ("indexer", "curve")) + per_item_work(
             samples, law.sample_s + ROW_S + encode_cost(MOTION_COLUMNS, csv), ("samples",), f"{samples} table rows")
@@ -39,17 +53,33 @@ class IndexerService:
                       csv: bool) -> WorkEstimate:
         self.curves.check_limit("number of output angles", angles, self.curves.settings.max_inverse_points,
                                 ("output_angle_deg",))
+        if spec.timing is not None:  # each position: a segment found, one inverse solved (≤ 2 law evaluations)
+            return self._timing_work(spec, 3 * angles, ("output_angle_deg",)) + per_item_work(
+                angles, ROW_S + encode_cost(MOTION_COLUMNS, csv), ("output_angle_deg",), f"{angles} positions")
         law = self.curves.law(spec.curve, at=("indexer", "curve"))
         return curve_work(law, ("indexer", "curve")) + per_item_work(
             angles, 2 * law.sample_s + ROW_S + encode_cost(MOTION_COLUMNS, csv), ("output_angle_deg",),
             f"{angles} positions") + self.curves.inverse_table_work(law, method, table_step)
 
     def sizing_work(self, spec: IndexerSpec) -> WorkEstimate:
-        """Sizing: the curve, its characteristic values and the exact peaks (a few ms)."""
+        """Sizing: the curve, its characteristic values and the exact peaks (a few ms); a
+        timing chart's laws and its peaks (as many candidates as a few rows per segment)."""
+        if spec.timing is not None:
+            return self._timing_work(spec, 0, ("indexer", "timing"))
         return self.curves.curve_work(spec.curve, ("indexer", "curve"))
 
     # ------------------------------------------------------------------ answers
-    def indexer(self, spec: IndexerSpec) -> camcore.indexer.Indexer:
+    def indexer(self, spec: IndexerSpec) -> camcore.indexer.Indexer | camcore.indexer.TimedIndexer:
+        """The single-curve indexer, or the indexer of a timing chart."""
+        if spec.timing is not None:
+            program = self.motions.program(spec.timing, at=TIMING)
+            with within(*TIMING):
+                camcore.indexer.check_timing(program)
+            with within("indexer"):
+                return camcore.indexer.TimedIndexer(program=program, speed_rpm=spec.speed_rpm,
+                                                    cycle_time_s=spec.cycle_time_s,
+                                                    input_stop_time_s=spec.input_stop_time_s)
+        assert spec.indexing_angle_deg is not None  # the spec's rule without a timing chart
         curve = self.curves.curve(spec.curve, at=("indexer", "curve"))
         with within("indexer"):
             return camcore.indexer.Indexer(
@@ -73,9 +103,16 @@ class IndexerService:
         self.curves.check_limit("number of output angles", len(output_angle_deg),
                                 self.curves.settings.max_inverse_points, ("output_angle_deg",))
         unit = self.indexer(spec)
+        angles = np.asarray(output_angle_deg, dtype=np.float64)
+        if isinstance(unit, camcore.indexer.TimedIndexer):
+            if method != "exact":
+                raise InvalidParameterError("a timing chart's positions are solved exactly: the table method "
+                                            "reproduces the catalog's single-curve tables (use method 'exact').",
+                                            field=("method",))
+            with within(*TIMING, only=NonMonotoneError):  # a segment's law cannot be inverted
+                return unit.position(angles).columns()
         with within("indexer", "curve", only=NonMonotoneError):  # the curve cannot be inverted
-            result = unit.position(np.asarray(output_angle_deg, dtype=np.float64), method=method,
-                                   table_step=table_step, table_decimals=table_decimals)
+            result = unit.position(angles, method=method, table_step=table_step, table_decimals=table_decimals)
         return result.columns()
 
     def sizing(self, spec: IndexerSpec, load: LoadSpec) -> dict[str, Any]:

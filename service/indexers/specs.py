@@ -7,11 +7,24 @@ from typing import Annotated, Literal
 from fastapi.openapi.models import Example
 from pydantic import BaseModel, Field, model_validator
 
-from camcore.indexer import IndexerPosition, LoadPart, MotionSummary, MotionTable, Sizing
-from camcore.indexer.kinematics import check_alternatives, check_total_indexing_angle
+from camcore.indexer import IndexerPosition, LoadPart, MotionSummary, MotionTable, Sizing, check_timing_frame
+from camcore.indexer.kinematics import check_alternatives, check_speed_alternatives, check_total_indexing_angle
 from service.curves.specs import MS_SPEC, CurveSpec, NamedCurveSpec
 from service.models import answer_model
-from service.specs import BIG, JSON_INTEGER, Spec, exactly_one, examples, given, not_both, one_of_values, rule, together
+from service.motions.specs import MotionSpec
+from service.specs import (
+    BIG,
+    JSON_INTEGER,
+    Spec,
+    absent,
+    exactly_one,
+    examples,
+    given,
+    not_both,
+    one_of_values,
+    rule,
+    together,
+)
 
 #: physical lower bounds: a subnormal speed or time would make th² underflow to zero
 Positive = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-6, le=BIG)]
@@ -23,35 +36,66 @@ INDEXER_EXAMPLE: dict[str, object] = {"stops": 6, "indexing_angle_deg": 270, "sp
 LOAD_EXAMPLE: dict[str, object] = {"parts": [{"shape": "disc", "mass_kg": 50, "diameter_mm": 600}],
                                    "friction_coefficient": 0.1, "friction_radius_mm": 200, "service_factor": 1.5}
 
+#: the indexer guide's oscillating unit as a timing chart (§4-5): out 90° over 120° of input
+#: (MS), dwell 60°, back over 120° (MS played backwards), dwell 60°
+TIMING_INDEXER_EXAMPLE: dict[str, object] = {
+    "speed_rpm": 60, "timing": {"unit": "deg", "segments": [
+        {"span_deg": 120, "to": 90, "curve": MS_SPEC}, {"span_deg": 60, "type": "dwell"},
+        {"span_deg": 120, "to": 0, "curve": {**MS_SPEC, "direction": "return"}}, {"span_deg": 60, "type": "dwell"}]}}
+TIMING_REPLACES = "a timing chart replaces stops, swing_angle_deg, indexing_angle_deg, dwells and curve: give none of them"
+
 
 class IndexerSpec(Spec):
-    """A cam indexer (stops) or oscillating unit (swing angle) at constant input speed.
+    """A cam indexer (stops) or oscillating unit (swing angle) at constant input speed, or an
+    indexer whose output follows a timing chart over one input turn.
 
     The total indexing angle θt = θh·z (indexing_angle_deg × dwells) is at most 360°.
     """
 
-    # check_alternatives' rules
+    # check_alternatives' rules, and the timing chart in place of stops/swing, angle, dwells and curve
     model_config = examples(
-        INDEXER_EXAMPLE,
-        rules=[rule("give exactly one of stops (n) and swing_angle_deg (ψ, oscillating units)",
-                    exactly_one("stops", "swing_angle_deg")),
+        INDEXER_EXAMPLE, TIMING_INDEXER_EXAMPLE,
+        rules=[rule(TIMING_REPLACES, {"if": given("timing"),
+                                      "then": absent("stops", "swing_angle_deg", "indexing_angle_deg", "dwells", "curve")}),
+               rule("give exactly one of stops (n) and swing_angle_deg (ψ, oscillating units)",
+                    {"if": {"not": given("timing")}, "then": exactly_one("stops", "swing_angle_deg")}),
+               rule("indexing_angle_deg (θh) is needed without a timing chart",
+                    {"if": {"not": given("timing")}, "then": given("indexing_angle_deg")}),
+               rule("a timing chart gives the output angle in deg over one input turn (period_deg 360)",
+                    {"properties": {"timing": {"required": ["unit"], "properties": {
+                        "unit": {"const": "deg"}, "period_deg": {"const": 360}}}}}),
                rule("give exactly one of speed_rpm (N) and cycle_time_s (t0 = 60/(N·z))",
                     exactly_one("speed_rpm", "cycle_time_s"))])
     stops: Annotated[int, Field(ge=1, le=100_000), JSON_INTEGER] | None = Field(None, description="n, stops per output turn")
     swing_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-6, le=360)] | None = Field(
         None, description="ψ, output swing of an oscillating unit (instead of stops)")
-    indexing_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-6, le=360)] = Field(
-        description="θh, input angle per index")
+    indexing_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-6, le=360)] | None = Field(
+        None, description="θh, input angle per index (needed without a timing chart)")
     dwells: Annotated[int, Field(ge=1, le=360), JSON_INTEGER] = Field(1, description="z, indexes per input turn")
     speed_rpm: Positive | None = Field(None, description="N, input speed")
     cycle_time_s: Positive | None = Field(None, description="t0, unit cycle time (instead of speed_rpm)")
     input_stop_time_s: NonNegative = Field(0.0, description="ts, input stands still each index")
     curve: CurveSpec = Field(default_factory=lambda: NamedCurveSpec(name="MS"))
+    timing: MotionSpec | None = Field(
+        None, description="a timing chart: the output angle (unit deg) over one input turn (period_deg 360), in place "
+                          "of stops/swing_angle_deg, indexing_angle_deg, dwells and curve; it closes for an "
+                          "oscillating unit (out and back) or advances by the output's travel per input turn. z is "
+                          "then the number of dwells in the chart, and the summary's per-index values are averages")
 
     @model_validator(mode="after")
     def _check(self) -> IndexerSpec:
         # the core's own rules (camcore raises ValueError subclasses: 422 with the same sentence)
+        if self.timing is not None:
+            replaced = [name for name in ("stops", "swing_angle_deg", "indexing_angle_deg", "dwells", "curve")
+                        if name in self.model_fields_set and getattr(self, name) is not None]
+            if replaced:
+                raise ValueError(f"{TIMING_REPLACES} (given: {', '.join(replaced)})")
+            check_timing_frame(self.timing.unit, self.timing.period_deg)
+            check_speed_alternatives(self.speed_rpm, self.cycle_time_s)
+            return self
         check_alternatives(self.stops, self.swing_angle_deg, self.speed_rpm, self.cycle_time_s)
+        if self.indexing_angle_deg is None:
+            raise ValueError("indexing_angle_deg (θh) is needed without a timing chart")
         check_total_indexing_angle(self.indexing_angle_deg, self.dwells)
         return self
 
