@@ -11,6 +11,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from camcore.errors import CamError, InvalidParameterError
 from camcore.motion import SOLVE, Law, MotionSegment, MotionSpec, resolve_motion
@@ -152,6 +154,45 @@ def test_half_matched_polynomial_keeps_its_given_start() -> None:
     law = Law("polynomial", {"start": {"s": 0, "v": 0, "a": 0}})
     program = resolve_motion(MotionSpec([dwell(60), move(60, law, to=10), move(120, CV, to=50), move(120, to=0)]))
     assert program.joins[1].continuity == "C2" and program.segments[1].solved["degree"] == 5
+
+
+@st.composite
+def matched_programs(draw: st.DrawFn) -> MotionSpec:
+    """Dwells and matched polynomials (quintic or septic) at random spans and positions,
+    ending where they start; a named law may anchor one segment."""
+    n = draw(st.integers(2, 8))
+    weights = draw(st.lists(st.floats(0.05, 1.0), min_size=n, max_size=n))
+    spans = [360.0 * w / sum(weights) for w in weights]
+    spans[-1] = 360.0 - sum(spans[:-1])
+    kinds = draw(st.lists(st.sampled_from(["poly", "poly", "septic", "dwell", "cycloid"]), min_size=n, max_size=n))
+    if "poly" not in kinds and "septic" not in kinds:
+        kinds[0] = "poly"
+    last_move = max(i for i, kind in enumerate(kinds) if kind != "dwell")
+    segments = []
+    for i, (span, kind) in enumerate(zip(spans, kinds)):
+        to = 0.0 if i == last_move else draw(st.floats(-50, 50).map(lambda v: round(v, 3)))
+        if kind == "dwell":
+            segments.append(dwell(span))
+        elif kind == "cycloid":
+            segments.append(move(span, to=to))
+        else:
+            segments.append(move(span, POLY, to=to, match="jerk" if kind == "septic" else "acceleration"))
+    return MotionSpec(segments)
+
+
+@settings(max_examples=200, deadline=None, derandomize=True, database=None)
+@given(spec=matched_programs())
+def test_random_programs_of_matched_polynomials_are_c2_and_close(spec: MotionSpec) -> None:
+    # a dwell or the cycloid starts and ends at rest (v = a = 0); every matched polynomial meets
+    # its neighbours' s, v, a, so every join is at least C2 (the wrap-around included), unless
+    # the program is refused with a sentence (a cycloid asked to move by 0)
+    try:
+        program = resolve_motion(spec)
+    except CamError as err:
+        assert str(err).startswith("segments[") and "a stroke of 0 with the law 'cycloid'" in str(err), str(err)
+        return
+    assert all(join.continuity in ("C2", "C3") for join in program.joins), program.joins
+    assert program.advance == 0.0 and program.derivatives(np.array([360.0]), 0)[0][0] == pytest.approx(0.0, abs=1e-9)
 
 
 # ----------------------------------------------------------------------------- a program as a cam's lift
