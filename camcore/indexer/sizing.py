@@ -18,26 +18,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..curves.base import FloatArray
 from ..curves.curve import Curve
-from ..curves.extrema import peaks_of
+from ..curves.extrema import power_balance_peaks
 from ..errors import InvalidParameterError
-from .kinematics import Indexer
+from .kinematics import Indexer, index_scales, indexing_time_s
 from .load import Load
 from .results import Sizing
 from .timing import TimedIndexer
-
-
-def _power_balance_peaks(curve: Curve, c1: float, c2: float) -> tuple[float, float, float, float]:
-    """Exact max and min over [T0, T7] of f(T) = c1·V·A + c2·V, with the T of each.
-
-    Candidates are each piece's ends (one-sided) and the roots of
-    f' = c1·(J·V + A²) + c2·A, from :meth:`Curve.critical_points`. Ties: earliest T.
-    """
-    # f' = c1·(J·V + A²) + c2·A: its roots and the piece ends are where f can peak
-    t_all, k_all = curve.critical_points(lambda d: c1 * (d[3] * d[1] + d[2] * d[2]) + c2 * d[2])
-    _, v, a = curve.eval_pieces(t_all, k_all, 2)
-    top, bottom = peaks_of(t_all, np.asarray(c1 * v * a + c2 * v, dtype=np.float64))
-    return top.value, top.t, bottom.value, bottom.t
 
 
 def accuracy_mm(arc_seconds: ArrayLike, radius_mm: ArrayLike) -> Any:
@@ -72,30 +60,36 @@ def accuracy_mm(arc_seconds: ArrayLike, radius_mm: ArrayLike) -> Any:
 
 @dataclass(frozen=True)
 class _Peaks:
-    """What sizing needs of the motion: peak |α| [rad/s²] and |ω| [rad/s], the catalog's Qm [-],
-    and the power balance's max and min (f [N·m], input angle [deg], T) before the service factor."""
+    """What sizing needs of the motion, one entry per sizing: peak |α| [rad/s²] and |ω|
+    [rad/s], the catalog's Qm [-], and the power balance's max and min (f [N·m], input angle
+    [deg], T) before the service factor."""
 
-    alpha_max: float
-    omega_max: float
-    qm: float
-    driving: tuple[float, float, float]
-    braking: tuple[float, float, float]
+    alpha_max: FloatArray
+    omega_max: FloatArray
+    qm: FloatArray
+    driving: tuple[FloatArray, FloatArray, FloatArray]
+    braking: tuple[FloatArray, FloatArray, FloatArray]
 
 
-def _curve_peaks(indexer: Indexer, inertia: float, resisting: float) -> _Peaks:
-    """One index along one curve: f(T) = (h/θh)·V'·[I·(h/th²)·A' + Tf + Tw]."""
-    c = indexer.curve
-    ch = c.characteristics
-    d_t, d_s = indexer.spans
-    kv, ka, _ = indexer.scales
-    ratio = indexer.displacement_rad / math.radians(indexer.indexing_angle_deg)  # h/θh, output/input angle
+def _curve_peaks(curve: Curve, h_deg: FloatArray, theta_h_deg: FloatArray, rpm: FloatArray, inertia: float,
+                 resisting: float) -> _Peaks:
+    """Indexes along one curve (one per entry of the arrays):
+    f(T) = (h/θh)·V'·[I·(h/th²)·A' + Tf + Tw]."""
+    ch = curve.characteristics
+    d_t, d_s = curve.t_end - curve.t_start, curve.s_end - curve.s_start
+    kv, ka, _ = index_scales(np.radians(h_deg), indexing_time_s(theta_h_deg, rpm), d_t, d_s)
+    ratio = np.radians(h_deg) / np.radians(theta_h_deg)  # h/θh, output/input angle
     # with V' = V·ΔT/ΔS, I·(h/th²)·A' = I·ka·A
     c1 = ratio * d_t / d_s * inertia * ka
     c2 = ratio * d_t / d_s * resisting
-    f_max, t_max, f_min, t_min = _power_balance_peaks(c, c1, c2)
-    return _Peaks(alpha_max=abs(ka) * ch.am, omega_max=abs(kv) * ch.vm.value, qm=ch.qm_pos.value * d_t / abs(d_s),
-                  driving=(f_max, float(indexer.angle_of_t(t_max)), t_max),
-                  braking=(f_min, float(indexer.angle_of_t(t_min)), t_min))
+    f_max, t_max, f_min, t_min = power_balance_peaks(curve, c1, c2)
+
+    def angle(t: FloatArray) -> FloatArray:
+        return np.asarray(theta_h_deg * (t - curve.t_start) / d_t, dtype=np.float64)
+
+    return _Peaks(alpha_max=np.abs(ka) * ch.am, omega_max=np.abs(kv) * ch.vm.value,
+                  qm=np.full(f_max.shape, ch.qm_pos.value * d_t / abs(d_s)),
+                  driving=(f_max, angle(t_max), t_max), braking=(f_min, angle(t_min), t_min))
 
 
 def _chart_peaks(indexer: TimedIndexer, inertia: float, resisting: float) -> _Peaks:
@@ -107,8 +101,42 @@ def _chart_peaks(indexer: TimedIndexer, inertia: float, resisting: float) -> _Pe
     a_peak = max(abs(ch.a_max), abs(ch.a_min))
     driving, braking = indexer.power_balance_peaks(inertia * ka, resisting)
     (va_max, _, _), _ = indexer.power_balance_peaks(1.0, 0.0)
-    return _Peaks(alpha_max=ka * a_peak, omega_max=kv * ch.v_peak,
-                  qm=indexer.indexing_angle_deg / indexer.displacement_deg * va_max / a_peak, driving=driving, braking=braking)
+
+    def one(value: float) -> FloatArray:
+        return np.array([value], dtype=np.float64)
+
+    return _Peaks(alpha_max=one(ka * a_peak), omega_max=one(kv * ch.v_peak),
+                  qm=one(indexer.indexing_angle_deg / indexer.displacement_deg * va_max / a_peak),
+                  driving=(one(driving[0]), one(driving[1]), one(driving[2])),
+                  braking=(one(braking[0]), one(braking[1]), one(braking[2])))
+
+
+def _figures(peaks: _Peaks, load: Load, stops: FloatArray, theta_h_deg: FloatArray,
+             rpm: FloatArray) -> dict[str, FloatArray]:
+    """The sizing figures from the peaks, one entry per sizing (the fields of :class:`Sizing`
+    that depend on the motion)."""
+    inertia = load.total_inertia_kgm2
+    tf = load.total_friction_torque_nm
+    tw = float(load.work_torque_nm)
+    fc = float(load.service_factor)
+    eta = float(load.efficiency)
+    ti = inertia * peaks.alpha_max
+    tt = ti + tf + tw
+    (f_max, x_max, t_max), (f_min, x_min, t_min) = peaks.driving, peaks.braking
+    # the driving peak governs unless the braking peak is larger by more than rounding
+    # (for a symmetric curve without friction the two are equal up to the last bits)
+    braking = np.abs(f_min) > np.abs(f_max) * (1.0 + 1e-12)
+    x_peak = np.where(braking, x_min, x_max)
+    t_in = fc * np.where(braking, np.abs(f_min), np.abs(f_max))
+    t_cat = 360.0 / (stops * theta_h_deg) * peaks.qm * fc * tt
+    w_in = 2.0 * np.pi * rpm / 60.0
+    return {"alpha_max_rad_s2": peaks.alpha_max, "omega_max_rad_s": peaks.omega_max, "inertia_torque_nm": ti,
+            "output_torque_nm": tt, "design_output_torque_nm": fc * tt, "input_torque_nm": t_in,
+            "input_torque_t": np.where(braking, t_min, t_max), "input_torque_input_angle_deg": x_peak,
+            "input_torque_time_s": x_peak / (6.0 * rpm), "input_torque_pos_nm": fc * f_max,
+            "input_torque_pos_t": t_max, "input_torque_neg_nm": fc * f_min, "input_torque_neg_t": t_min,
+            "input_torque_catalog_nm": t_cat, "qm": peaks.qm, "input_power_kw": w_in * t_in / eta / 1000.0,
+            "input_power_catalog_kw": w_in * t_cat / eta / 1000.0, "speed_rpm": np.broadcast_to(rpm, t_in.shape)}
 
 
 def size(
@@ -159,50 +187,19 @@ def size(
         raise InvalidParameterError("size() needs an Indexer or a TimedIndexer as its first argument.")
     if not isinstance(load, Load):
         raise InvalidParameterError("size() needs a Load as its second argument.")
-    inertia = load.total_inertia_kgm2
-    tf = load.total_friction_torque_nm
-    tw = float(load.work_torque_nm)
-    peaks = _chart_peaks(indexer, inertia, tf + tw) if isinstance(indexer, TimedIndexer) else \
-        _curve_peaks(indexer, inertia, tf + tw)
-    ti = inertia * peaks.alpha_max
-    tt = ti + tf + tw
-    fc = float(load.service_factor)
-    eta = float(load.efficiency)
-    (f_max, x_max, t_max), (f_min, x_min, t_min) = peaks.driving, peaks.braking
-    # the driving peak governs unless the braking peak is larger by more than rounding
-    # (for a symmetric curve without friction the two are equal up to the last bits)
-    braking = abs(f_min) > abs(f_max) * (1.0 + 1e-12)
-    x_peak, t_peak = (x_min, t_min) if braking else (x_max, t_max)
-    t_in = fc * (abs(f_min) if braking else abs(f_max))
-    t_cat = 360.0 / (indexer.n * indexer.indexing_angle_deg) * peaks.qm * fc * tt
-    w_in = indexer.input_speed_rad_s
+    resisting = load.total_friction_torque_nm + float(load.work_torque_nm)
+    if isinstance(indexer, TimedIndexer):
+        peaks = _chart_peaks(indexer, load.total_inertia_kgm2, resisting)
+    else:
+        peaks = _curve_peaks(indexer.curve, np.array([indexer.displacement_deg]),
+                             np.array([indexer.indexing_angle_deg]), np.array([indexer.rpm]),
+                             load.total_inertia_kgm2, resisting)
+    figures = _figures(peaks, load, np.array([indexer.n]), np.array([indexer.indexing_angle_deg]),
+                       np.array([indexer.rpm]))
     acc = None
     if accuracy_arc_seconds is not None and accuracy_radius_mm is not None:
         acc = float(accuracy_mm(accuracy_arc_seconds, accuracy_radius_mm))
-    return Sizing(
-        inertia_kgm2=inertia,
-        mass_kg=load.mass_kg,
-        alpha_max_rad_s2=peaks.alpha_max,
-        omega_max_rad_s=peaks.omega_max,
-        inertia_torque_nm=ti,
-        friction_torque_nm=tf,
-        work_torque_nm=tw,
-        output_torque_nm=tt,
-        design_output_torque_nm=fc * tt,
-        service_factor=fc,
-        efficiency=eta,
-        input_torque_nm=t_in,
-        input_torque_t=t_peak,
-        input_torque_input_angle_deg=x_peak,
-        input_torque_time_s=x_peak / (6.0 * indexer.rpm),
-        input_torque_pos_nm=fc * f_max,
-        input_torque_pos_t=t_max,
-        input_torque_neg_nm=fc * f_min,
-        input_torque_neg_t=t_min,
-        input_torque_catalog_nm=t_cat,
-        qm=peaks.qm,
-        input_power_kw=w_in * t_in / eta / 1000.0,
-        input_power_catalog_kw=w_in * t_cat / eta / 1000.0,
-        speed_rpm=indexer.rpm,
-        accuracy_mm=acc,
-    )
+    return Sizing(inertia_kgm2=load.total_inertia_kgm2, mass_kg=load.mass_kg,
+                  friction_torque_nm=load.total_friction_torque_nm, work_torque_nm=float(load.work_torque_nm),
+                  service_factor=float(load.service_factor), efficiency=float(load.efficiency), accuracy_mm=acc,
+                  **{name: float(value[0]) for name, value in figures.items()})

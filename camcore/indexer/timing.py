@@ -34,7 +34,7 @@ from ..curves.base import FloatArray
 from ..curves.extrema import peaks_of
 from ..errors import InvalidParameterError, NonMonotoneError, StrokeRangeError
 from ..motion import SPAN_TOLERANCE, MotionProgram, PlacedLaw
-from .kinematics import check_speed_alternatives
+from .checks import check_speed_alternatives
 from .results import IndexerMotion, IndexerPosition, MotionSummary, MotionTable
 
 DEG_PER_RAD = 180.0 / math.pi

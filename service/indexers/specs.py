@@ -8,7 +8,7 @@ from fastapi.openapi.models import Example
 from pydantic import BaseModel, Field, model_validator
 
 from camcore.indexer import IndexerPosition, LoadPart, MotionSummary, MotionTable, Sizing, check_timing_frame
-from camcore.indexer.kinematics import check_alternatives, check_speed_alternatives, check_total_indexing_angle
+from camcore.indexer.checks import check_alternatives, check_speed_alternatives, check_total_indexing_angle
 from service.curves.specs import MS_SPEC, CurveSpec, NamedCurveSpec
 from service.models import answer_model
 from service.motions.specs import MotionSpec
