@@ -203,12 +203,12 @@ def power_balance_peaks(curve: PiecewiseCurve, c1: ArrayLike, c2: ArrayLike
     curve : PiecewiseCurve
         The curve.
     c1, c2 : array_like
-        One pair of coefficients per row (same shape, 1-D) [any unit].
+        One pair of coefficients per row (same shape, 1-D) [N·m] (or any unit: f takes it).
 
     Returns
     -------
     (ndarray, ndarray, ndarray, ndarray)
-        Per row: the largest f and its T, the smallest f and its T (ties: the earliest T).
+        Per row: the largest f [f's unit] and its T [-], the smallest f and its T (ties: the earliest T).
 
     Notes
     -----

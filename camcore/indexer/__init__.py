@@ -2,6 +2,7 @@
 timing chart (:mod:`.timing`), the load (:mod:`.load`), torque and power sizing
 (:mod:`.sizing`); results in :mod:`.results`."""
 
+from .drive import Motor, TorqueTable
 from .kinematics import Indexer
 from .load import G, Load, LoadPart
 from .results import IndexerMotion, IndexerPosition, MotionSummary, MotionTable, Sizing
@@ -9,6 +10,20 @@ from .sizing import accuracy_mm, size
 from .timing import TimedIndexer, check_timing, check_timing_frame
 
 __all__ = [
-    "G", "Indexer", "IndexerMotion", "IndexerPosition", "Load", "LoadPart", "MotionSummary",
-    "MotionTable", "Sizing", "TimedIndexer", "accuracy_mm", "check_timing", "check_timing_frame", "size",
+    "G",
+    "Indexer",
+    "IndexerMotion",
+    "IndexerPosition",
+    "Load",
+    "LoadPart",
+    "MotionSummary",
+    "MotionTable",
+    "Motor",
+    "Sizing",
+    "TimedIndexer",
+    "TorqueTable",
+    "accuracy_mm",
+    "check_timing",
+    "check_timing_frame",
+    "size",
 ]

@@ -22,6 +22,7 @@ from ..curves.base import FloatArray
 from ..curves.curve import Curve
 from ..curves.extrema import power_balance_peaks
 from ..errors import InvalidParameterError
+from .drive import Cycle, Motor, TorqueLaw, cycle_rms, motor_scale, nonnegative_internal, torque_table
 from .kinematics import Indexer, index_scales, indexing_time_s
 from .load import Load
 from .results import Sizing
@@ -69,6 +70,7 @@ class _Peaks:
     qm: FloatArray
     driving: tuple[FloatArray, FloatArray, FloatArray]
     braking: tuple[FloatArray, FloatArray, FloatArray]
+    coefficients: tuple[FloatArray, FloatArray]  # c1, c2 of f = c1·V·A + c2·V (a curve's rows)
 
 
 def _curve_peaks(curve: Curve, h_deg: FloatArray, theta_h_deg: FloatArray, rpm: FloatArray, inertia: float,
@@ -89,7 +91,8 @@ def _curve_peaks(curve: Curve, h_deg: FloatArray, theta_h_deg: FloatArray, rpm: 
 
     return _Peaks(alpha_max=np.abs(ka) * ch.am, omega_max=np.abs(kv) * ch.vm.value,
                   qm=np.full(f_max.shape, ch.qm_pos.value * d_t / abs(d_s)),
-                  driving=(f_max, angle(t_max), t_max), braking=(f_min, angle(t_min), t_min))
+                  driving=(f_max, angle(t_max), t_max), braking=(f_min, angle(t_min), t_min),
+                  coefficients=(np.atleast_1d(c1), np.atleast_1d(c2)))
 
 
 def _chart_peaks(indexer: TimedIndexer, inertia: float, resisting: float) -> _Peaks:
@@ -108,16 +111,17 @@ def _chart_peaks(indexer: TimedIndexer, inertia: float, resisting: float) -> _Pe
     return _Peaks(alpha_max=one(ka * a_peak), omega_max=one(kv * ch.v_peak),
                   qm=one(indexer.indexing_angle_deg / indexer.displacement_deg * va_max / a_peak),
                   driving=(one(driving[0]), one(driving[1]), one(driving[2])),
-                  braking=(one(braking[0]), one(braking[1]), one(braking[2])))
+                  braking=(one(braking[0]), one(braking[1]), one(braking[2])),
+                  coefficients=(one(inertia * ka), one(resisting)))
 
 
 def _figures(peaks: _Peaks, load: Load, stops: FloatArray, theta_h_deg: FloatArray,
              rpm: FloatArray) -> dict[str, FloatArray]:
     """The sizing figures from the peaks, one entry per sizing (the fields of :class:`Sizing`
     that depend on the motion)."""
-    inertia = load.total_inertia_kgm2
-    tf = load.total_friction_torque_nm
-    tw = float(load.work_torque_nm)
+    inertia = load.output_inertia_kgm2
+    tf = load.output_friction_torque_nm
+    tw = load.output_work_torque_nm
     fc = float(load.service_factor)
     eta = float(load.efficiency)
     ti = inertia * peaks.alpha_max
@@ -144,6 +148,10 @@ def size(
     load: Load,
     accuracy_arc_seconds: float | None = None,
     accuracy_radius_mm: float | None = None,
+    *,
+    internal_friction_torque_nm: float = 0.0,
+    motor: Motor | None = None,
+    table_samples: int = 181,
 ) -> Sizing:
     """Output and input torque and input power needed to index a load.
 
@@ -156,6 +164,13 @@ def size(
         What the output drives: inertia, friction, work torque, service factor, efficiency.
     accuracy_arc_seconds, accuracy_radius_mm : float, optional
         If both are given, ``accuracy_mm`` = :func:`accuracy_mm` of them [arcsec, mm].
+    internal_friction_torque_nm : float
+        Tᵢ, the unit's own friction on the input shaft while it turns (≥ 0) [N·m]; in the
+        torque table, the RMS and the motor figures, not in ``input_torque_nm``.
+    motor : Motor, optional
+        A motor to check (:mod:`.drive`).
+    table_samples : int
+        Rows of the torque table over each index [-].
 
     Returns
     -------
@@ -187,19 +202,72 @@ def size(
         raise InvalidParameterError("size() needs an Indexer or a TimedIndexer as its first argument.")
     if not isinstance(load, Load):
         raise InvalidParameterError("size() needs a Load as its second argument.")
-    resisting = load.total_friction_torque_nm + float(load.work_torque_nm)
+    resisting = load.output_friction_torque_nm + load.output_work_torque_nm
+    inertia = load.output_inertia_kgm2
     if isinstance(indexer, TimedIndexer):
-        peaks = _chart_peaks(indexer, load.total_inertia_kgm2, resisting)
+        peaks = _chart_peaks(indexer, inertia, resisting)
     else:
         peaks = _curve_peaks(indexer.curve, np.array([indexer.displacement_deg]),
-                             np.array([indexer.indexing_angle_deg]), np.array([indexer.rpm]),
-                             load.total_inertia_kgm2, resisting)
-    figures = _figures(peaks, load, np.array([indexer.n]), np.array([indexer.indexing_angle_deg]),
-                       np.array([indexer.rpm]))
+                             np.array([indexer.indexing_angle_deg]), np.array([indexer.rpm]), inertia, resisting)
+    figures: dict[str, Any] = {name: float(value[0]) for name, value in _figures(
+        peaks, load, np.array([indexer.n]), np.array([indexer.indexing_angle_deg]), np.array([indexer.rpm])).items()}
     acc = None
     if accuracy_arc_seconds is not None and accuracy_radius_mm is not None:
         acc = float(accuracy_mm(accuracy_arc_seconds, accuracy_radius_mm))
-    return Sizing(inertia_kgm2=load.total_inertia_kgm2, mass_kg=load.mass_kg,
-                  friction_torque_nm=load.total_friction_torque_nm, work_torque_nm=float(load.work_torque_nm),
-                  service_factor=float(load.service_factor), efficiency=float(load.efficiency), accuracy_mm=acc,
-                  **{name: float(value[0]) for name, value in figures.items()})
+    internal = nonnegative_internal(internal_friction_torque_nm)
+    cycle = _cycle(indexer, peaks)
+    fc = float(load.service_factor)
+    g = load.gear_ratio
+    drive: dict[str, Any] = {"gear_ratio": g, "dial_inertia_kgm2": load.total_inertia_kgm2,
+             "dial_displacement_deg": indexer.displacement_deg / g,
+             "dial_omega_max_rad_s": figures["omega_max_rad_s"] / g,
+             "dial_alpha_max_rad_s2": figures["alpha_max_rad_s2"] / g,
+             "internal_friction_torque_nm": internal, "dwell_output_torque_nm": load.dwell_torque_nm / g,
+             "rms_input_torque_nm": cycle_rms(cycle, fc, internal, lambda t: t),
+             "machine_cycle_time_s": cycle.cycle_s, "input_torque_table": torque_table(cycle, fc, internal, table_samples)}
+    if motor is not None:
+        drive |= _motor_check(motor, load, cycle, figures, internal, indexer.rpm, indexer.input_speed_rad_s)
+    return Sizing(inertia_kgm2=inertia, mass_kg=load.mass_kg, friction_torque_nm=load.output_friction_torque_nm,
+                  work_torque_nm=load.output_work_torque_nm, service_factor=fc, efficiency=float(load.efficiency),
+                  accuracy_mm=acc, **figures, **drive)
+
+
+def _cycle(indexer: Indexer | TimedIndexer, peaks: _Peaks) -> Cycle:
+    """The machine cycle's torque laws: one index of a curve (twice for an oscillating unit's
+    out and back strokes, which need the same torque), or each moving segment of a chart."""
+    if isinstance(indexer, TimedIndexer):
+        inertia_ka, resisting = float(peaks.coefficients[0][0]), float(peaks.coefficients[1][0])
+        laws = [TorqueLaw(law.curve, inertia_ka * law.gain**2 * law.rate**3, resisting * abs(law.gain) * law.rate,
+                          law.x_a, law.span, signed_friction=True)
+                for law in indexer.program.placed if law.curve is not None]
+        return Cycle(laws, 360.0, indexer.dwells * float(indexer.input_stop_time_s), indexer.rpm)
+    law = TorqueLaw(indexer.curve, float(peaks.coefficients[0][0]), float(peaks.coefficients[1][0]), 0.0,
+                    indexer.indexing_angle_deg, signed_friction=False)
+    return Cycle([law], 360.0 / indexer.dwells, float(indexer.input_stop_time_s), indexer.rpm,
+                 repeats=2 if indexer.swing_angle_deg is not None else 1)
+
+
+def _motor_check(motor: Motor, load: Load, cycle: Cycle, figures: dict[str, float], internal: float, rpm: float,
+                 input_speed_rad_s: float) -> dict[str, Any]:
+    """The motor's speed, peak and RMS torque (every efficiency applied), inertia ratio, use and verdict."""
+    scale = motor_scale(motor, float(load.efficiency))
+    fc = float(load.service_factor)
+    extremes = np.array([figures["input_torque_pos_nm"] + internal, figures["input_torque_neg_nm"] + internal,
+                         internal])
+    peak = float(np.abs(scale(extremes)).max())
+    rms = cycle_rms(cycle, fc, internal, scale)
+    speed = rpm * motor.reduction_ratio
+    # the load's inertia seen at the motor: I·(dθout/dθin)²/i², largest where the output is fastest
+    ratio = load.output_inertia_kgm2 * (figures["omega_max_rad_s"] / input_speed_rad_s) ** 2 \
+        / motor.reduction_ratio**2 / motor.rotor_inertia_kgm2
+    reasons = []
+    if peak > motor.peak_torque_nm:
+        reasons.append(f"the peak torque {peak:.4g} N·m exceeds the motor's peak torque {motor.peak_torque_nm:.4g} N·m")
+    if rms > motor.rated_torque_nm:
+        reasons.append(f"the RMS torque {rms:.4g} N·m exceeds the motor's rated torque {motor.rated_torque_nm:.4g} N·m")
+    if speed > motor.max_speed_rpm:
+        reasons.append(f"the motor speed {speed:.4g} rpm exceeds its maximum {motor.max_speed_rpm:.4g} rpm")
+    return {"motor_speed_rpm": speed, "motor_peak_torque_nm": peak, "motor_rms_torque_nm": rms,
+            "inertia_ratio": ratio, "peak_utilisation": peak / motor.peak_torque_nm,
+            "rms_utilisation": rms / motor.rated_torque_nm, "motor_ok": not reasons,
+            "motor_reason": "; ".join(reasons) or None}

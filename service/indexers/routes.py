@@ -84,7 +84,8 @@ async def _position(request: Request, gate: WorkGate, service: IndexerService, b
 async def indexer_sizing(body: Annotated[SizingRequest, Body(openapi_examples=SIZING_EXAMPLES)],
                          request: Request, service: Service, gate: Gate) -> Response:
     """Inertia, friction and work torque, output and input torque, input power."""
-    result = await gate.run(request, service.sizing_work(body.indexer), service.sizing, body.indexer, body.load)
+    work = service.sizing_work(body.indexer, body.table_samples, body.motor is not None)
+    result = await gate.run(request, work, service.sizing, body.indexer, body.load, body.motor, body.table_samples)
     check_finite({k: v for k, v in result.items() if isinstance(v, float)})
     return JSONBody(result)
 

@@ -12,7 +12,7 @@ from camcore.results import as_dict
 from camcore.work import WorkEstimate, curve_work, motion_work, per_item_work
 from service.curves.service import CurveService
 from service.errors import within
-from service.indexers.specs import IndexerSpec, LoadSpec
+from service.indexers.specs import IndexerSpec, LoadSpec, MotorSpec
 from service.motions.service import MotionService
 from service.responses import encode_cost
 
@@ -21,6 +21,9 @@ MOTION_COLUMNS = 8
 #: one row of the motion table or one position beyond the curve's own evaluation: angle
 #: and time scaling (measured 0.5 µs per row at 2e5 rows), ×1.5
 ROW_S = 1.5 * 5e-7
+#: one RMS integral over one law (each piece scanned for the torque's zeros, 32-point Gauss-Legendre
+#: on each stretch): measured 1.1-2.4 ms for MS, MCV50, a 9-piece universal curve; ×1.5
+RMS_INTEGRAL_S = 1.5 * 2.4e-3
 #: where a timing chart is in the request
 TIMING = ("indexer", "timing")
 
@@ -61,12 +64,19 @@ class IndexerService:
             angles, 2 * law.sample_s + ROW_S + encode_cost(MOTION_COLUMNS, csv), ("output_angle_deg",),
             f"{angles} positions") + self.curves.inverse_table_work(law, method, table_step)
 
-    def sizing_work(self, spec: IndexerSpec) -> WorkEstimate:
-        """Sizing: the curve, its characteristic values and the exact peaks (a few ms); a
-        timing chart's laws and its peaks (as many candidates as a few rows per segment)."""
+    def sizing_work(self, spec: IndexerSpec, table_samples: int = 181, motor: bool = False) -> WorkEstimate:
+        """Sizing: the curve, its characteristic values and the exact peaks (a few ms), or a
+        timing chart's laws and peaks; the torque table's rows and the RMS integrals (one,
+        or two with a motor), per moving segment."""
         if spec.timing is not None:
-            return self._timing_work(spec, 0, ("indexer", "timing"))
-        return self.curves.curve_work(spec.curve, ("indexer", "curve"))
+            laws = sum(1 for segment in spec.timing.segments if segment.type != "dwell")
+            work = self._timing_work(spec, table_samples * laws, ("indexer", "timing"))
+        else:
+            laws = 1
+            work = self.curves.curve_work(spec.curve, ("indexer", "curve")) + per_item_work(
+                table_samples, ROW_S, ("table_samples",), f"{table_samples} torque rows")
+        integrals = laws * (2 if motor else 1)
+        return work + per_item_work(integrals, RMS_INTEGRAL_S, ("indexer",), f"{integrals} RMS integrals")
 
     # ------------------------------------------------------------------ answers
     def indexer(self, spec: IndexerSpec) -> camcore.indexer.Indexer | camcore.indexer.TimedIndexer:
@@ -115,7 +125,8 @@ class IndexerService:
             result = unit.position(angles, method=method, table_step=table_step, table_decimals=table_decimals)
         return result.columns()
 
-    def sizing(self, spec: IndexerSpec, load: LoadSpec) -> dict[str, Any]:
+    def sizing(self, spec: IndexerSpec, load: LoadSpec, motor: MotorSpec | None = None,
+               table_samples: int = 181) -> dict[str, Any]:
         parts = []
         for i, part in enumerate(load.parts):
             with within("load", "parts", i):
@@ -130,9 +141,19 @@ class IndexerService:
                 work_torque_nm=load.work_torque_nm,
                 service_factor=load.service_factor,
                 efficiency=load.efficiency,
+                gear_ratio=load.gear_ratio,
+                dwell_torque_nm=load.dwell_torque_nm,
             )
-        result = camcore.indexer.size(self.indexer(spec), core_load, accuracy_arc_seconds=load.accuracy_arc_seconds,
-                           accuracy_radius_mm=load.accuracy_radius_mm)
+        core_motor = None
+        if motor is not None:
+            with within("motor"):
+                core_motor = camcore.indexer.Motor(**motor.model_dump())
+        unit = self.indexer(spec)
+        with within("indexer"), np.errstate(all="ignore"):  # non-finite answers are refused when encoded
+            result = camcore.indexer.size(unit, core_load, accuracy_arc_seconds=load.accuracy_arc_seconds,
+                                          accuracy_radius_mm=load.accuracy_radius_mm,
+                                          internal_friction_torque_nm=spec.internal_friction_torque_nm,
+                                          motor=core_motor, table_samples=table_samples)
         return as_dict(result)
 
     @staticmethod

@@ -35,6 +35,9 @@ INDEXER_EXAMPLE: dict[str, object] = {"stops": 6, "indexing_angle_deg": 270, "sp
 #: and its load: a 50 kg disc of Ø600 mm, friction μ = 0.1 at R = 200 mm, service factor 1.5
 LOAD_EXAMPLE: dict[str, object] = {"parts": [{"shape": "disc", "mass_kg": 50, "diameter_mm": 600}],
                                    "friction_coefficient": 0.1, "friction_radius_mm": 200, "service_factor": 1.5}
+#: a servo motor through a 10:1 reduction (95 %)
+MOTOR_EXAMPLE: dict[str, object] = {"rated_torque_nm": 3.2, "peak_torque_nm": 9.6, "rotor_inertia_kgm2": 0.00034,
+                                    "max_speed_rpm": 3000, "reduction_ratio": 10, "reduction_efficiency": 0.95}
 
 #: the indexer guide's oscillating unit as a timing chart (§4-5): out 90° over 120° of input
 #: (MS), dwell 60°, back over 120° (MS played backwards), dwell 60°
@@ -75,6 +78,9 @@ class IndexerSpec(Spec):
     speed_rpm: Positive | None = Field(None, description="N, input speed")
     cycle_time_s: Positive | None = Field(None, description="t0, unit cycle time (instead of speed_rpm)")
     input_stop_time_s: NonNegative = Field(0.0, description="ts, input stands still each index")
+    internal_friction_torque_nm: NonNegative = Field(
+        0.0, description="the unit's own friction torque on the input shaft while it turns (the maker's data); in the "
+                         "sizing's torque table, RMS and motor figures")
     curve: CurveSpec = Field(default_factory=lambda: NamedCurveSpec(name="MS"))
     timing: MotionSpec | None = Field(
         None, description="a timing chart: the output angle (unit deg) over one input turn (period_deg 360), in place "
@@ -153,6 +159,10 @@ class LoadSpec(Spec):
     work_torque_nm: NonNegative = 0.0
     service_factor: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1, le=100)] = 1.5
     efficiency: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=1)] = 1.0
+    gear_ratio: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-3, le=1000)] = Field(
+        1.0, description="g, output-shaft turns per dial turn: the inertia, friction and work torque above are the "
+                         "dial's, reflected to the output shaft as I/g² and T/g")
+    dwell_torque_nm: NonNegative = Field(0.0, description="external torque on the dial held while it stands still")
     accuracy_arc_seconds: NonNegative | None = Field(None, description="with accuracy_radius_mm: arc-seconds → mm")
     accuracy_radius_mm: NonNegative | None = None
 
@@ -182,10 +192,26 @@ class PositionRequest(Spec):
     table_decimals: Annotated[int, Field(ge=0, le=15), JSON_INTEGER] | None = None
 
 
+class MotorSpec(Spec):
+    """A motor to check against the machine cycle (peak, RMS, speed, inertia ratio)."""
+
+    model_config = examples(MOTOR_EXAMPLE)
+    rated_torque_nm: Positive = Field(description="continuous torque")
+    peak_torque_nm: Positive = Field(description="peak torque")
+    rotor_inertia_kgm2: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=BIG)]
+    max_speed_rpm: Positive
+    reduction_ratio: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-3, le=1e5)] = Field(
+        1.0, description="i, motor turns per input-shaft turn")
+    reduction_efficiency: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=1)] = 1.0
+
+
 class SizingRequest(Spec):
     model_config = examples({"indexer": INDEXER_EXAMPLE, "load": LOAD_EXAMPLE})
     indexer: IndexerSpec
     load: LoadSpec
+    motor: MotorSpec | None = None
+    table_samples: Annotated[int, Field(ge=2, le=10_001), JSON_INTEGER] = Field(
+        181, description="rows of the input torque table over each index")
 
 
 #: request examples of the POST operations (Swagger UI pre-fills the first)
@@ -204,6 +230,9 @@ SIZING_EXAMPLES: dict[str, Example] = {
               "description": "the guide's sizing example: I = m·D²/8 = 2.25 kg·m², "
                              "friction torque μ·m·g·R = 9.81 N·m",
               "value": {"indexer": INDEXER_EXAMPLE, "load": LOAD_EXAMPLE}},
+    "motor": {"summary": "the same through a 2:1 belt to the dial, with 2 N·m internal friction and a motor check",
+              "value": {"indexer": {**INDEXER_EXAMPLE, "internal_friction_torque_nm": 2},
+                        "load": {**LOAD_EXAMPLE, "gear_ratio": 2, "dwell_torque_nm": 40}, "motor": MOTOR_EXAMPLE}},
 }
 
 
