@@ -23,6 +23,7 @@ from service.indexers.specs import (
     SizingAnswer,
     SizingRequest,
 )
+from service.indexers.sweep import SWEEP_EXAMPLES, SizingSweepAnswer, SizingSweepRequest, sweep, sweep_work
 from service.responses import JSONBody, check_finite, json_response, table_response, wants_csv
 from service.routing import OrjsonRoute
 
@@ -88,6 +89,15 @@ async def indexer_sizing(body: Annotated[SizingRequest, Body(openapi_examples=SI
     result = await gate.run(request, work, service.sizing, body.indexer, body.load, body.motor, body.table_samples)
     check_finite({k: v for k, v in result.items() if isinstance(v, float)})
     return JSONBody(result)
+
+
+@router.post("/sizing/sweep", operation_id="sweepIndexerSizing", response_model=SizingSweepAnswer,
+             responses={**ERRORS, 200: CSV})
+async def indexer_sizing_sweep(body: Annotated[SizingSweepRequest, Body(openapi_examples=SWEEP_EXAMPLES)],
+                               request: Request, service: Service, gate: Gate) -> Response:
+    """Every combination of stops × indexing angles × curves × speeds sized at once (CSV on request)."""
+    columns = await gate.run(request, sweep_work(service.curves, body), sweep, service, body)
+    return table_response(columns, wants_csv(request), filename="sizing-sweep.csv")
 
 
 @router.get("/accuracy", operation_id="convertIndexingAccuracy", response_model=AccuracyAnswer, responses=ERRORS)

@@ -127,23 +127,7 @@ class IndexerService:
 
     def sizing(self, spec: IndexerSpec, load: LoadSpec, motor: MotorSpec | None = None,
                table_samples: int = 181) -> dict[str, Any]:
-        parts = []
-        for i, part in enumerate(load.parts):
-            with within("load", "parts", i):
-                parts.append(camcore.indexer.LoadPart(**part.model_dump()))
-        with within("load"):
-            core_load = camcore.indexer.Load(
-                inertia_kgm2=load.inertia_kgm2,
-                parts=parts,
-                friction_coefficient=load.friction_coefficient,
-                friction_radius_mm=load.friction_radius_mm,
-                friction_torque_nm=load.friction_torque_nm,
-                work_torque_nm=load.work_torque_nm,
-                service_factor=load.service_factor,
-                efficiency=load.efficiency,
-                gear_ratio=load.gear_ratio,
-                dwell_torque_nm=load.dwell_torque_nm,
-            )
+        core_load = self.core_load(load)
         core_motor = None
         if motor is not None:
             with within("motor"):
@@ -155,6 +139,27 @@ class IndexerService:
                                           internal_friction_torque_nm=spec.internal_friction_torque_nm,
                                           motor=core_motor, table_samples=table_samples)
         return as_dict(result)
+
+    @staticmethod
+    def core_load(load: LoadSpec) -> camcore.indexer.Load:
+        """The load as camcore takes it (its errors located under ``load``)."""
+        parts = []
+        for i, part in enumerate(load.parts):
+            with within("load", "parts", i):
+                parts.append(camcore.indexer.LoadPart(**part.model_dump()))
+        with within("load"):
+            return camcore.indexer.Load(
+                inertia_kgm2=load.inertia_kgm2,
+                parts=parts,
+                friction_coefficient=load.friction_coefficient,
+                friction_radius_mm=load.friction_radius_mm,
+                friction_torque_nm=load.friction_torque_nm,
+                work_torque_nm=load.work_torque_nm,
+                service_factor=load.service_factor,
+                efficiency=load.efficiency,
+                gear_ratio=load.gear_ratio,
+                dwell_torque_nm=load.dwell_torque_nm,
+            )
 
     @staticmethod
     def accuracy(arc_seconds: float, radius_mm: float) -> dict[str, float]:
