@@ -21,6 +21,8 @@ from service.specs import JSON_INTEGER, Spec, exactly_one, examples, rule
 
 #: one sized design: measured 34-70 µs per combination (1-4 curves, 500-32 000 rows); ×1.5
 SWEEP_ROW_S = 1.5 * 7e-5
+#: drawing the sweep's chart, up to 16 panels (measured 0.1-0.3 s); ×1.5
+SWEEP_CHART_S = 1.5 * 0.3
 
 SWEEP_EXAMPLE: dict[str, object] = {
     "load": LOAD_EXAMPLE, "stops": [4, 6, 8], "indexing_angle_deg": [120, 180, 270],
@@ -76,14 +78,17 @@ SizingSweepAnswer = create_model(
 SizingSweepAnswer.__module__ = __name__
 
 
-def sweep_work(curves: CurveService, body: SizingSweepRequest) -> WorkEstimate:
-    """413 over the combination limit; the curves and the rows."""
+def sweep_work(curves: CurveService, body: SizingSweepRequest, chart: bool = False) -> WorkEstimate:
+    """413 over the combination limit; the curves and the rows (and a chart's drawing)."""
     curves.check_limit("sizing combinations", body.combinations, curves.settings.max_sweep_combinations,
                        ("stops",))
     work = WorkEstimate()
     for i, spec in enumerate(body.curves):
         work += curves.curve_work(spec, ("curves", i))
-    return work + per_item_work(body.combinations, SWEEP_ROW_S, ("stops",), f"{body.combinations} designs")
+    work += per_item_work(body.combinations, SWEEP_ROW_S, ("stops",), f"{body.combinations} designs")
+    if chart:  # matplotlib: ~0.1-0.3 s for up to 16 panels (measured), ×1.5
+        work += per_item_work(1, SWEEP_CHART_S, ("stops",), "drawing the chart")
+    return work
 
 
 def sweep(indexers: IndexerService, body: SizingSweepRequest) -> dict[str, Any]:

@@ -49,3 +49,18 @@ async def test_cycle_times_csv_and_limits(client: httpx.AsyncClient) -> None:
     big = {**body, "stops": list(range(1, 101)), "indexing_angle_deg": list(range(1, 101)), "cycle_time_s": [1, 2]}
     r = await client.post("/v1/indexers/sizing/sweep", json=big)
     assert r.status_code == 413 and "sizing combinations is 20000, over the limit of 10000" in r.json()["detail"]
+
+
+async def test_the_chart_of_input_torque_over_speed(client: httpx.AsyncClient) -> None:
+    body = {"load": LOAD, "stops": [4, 6], "indexing_angle_deg": [120, 270], "curves": CURVES,
+            "speed_rpm": [30, 60, 90, 120]}
+    png = await client.post("/v1/indexers/sizing/sweep?format=png", json=body)
+    assert png.status_code == 200 and png.headers["content-type"] == "image/png"
+    assert png.content.startswith(b"\x89PNG\r\n\x1a\n")
+    svg = await client.post("/v1/indexers/sizing/sweep?format=svg", json=body)
+    assert svg.status_code == 200 and svg.headers["content-type"].startswith("image/svg+xml")
+    # one line per curve in each of the 4 panels, its legend naming the curves
+    assert b"MCV50" in svg.content and b"universal" in svg.content and b"n = 6, \xce\xb8h = 270\xc2\xb0" in svg.content
+    many = {**body, "stops": list(range(1, 18)), "indexing_angle_deg": [120]}
+    r = await client.post("/v1/indexers/sizing/sweep?format=png", json=many)
+    assert r.status_code == 422 and "at most 16, not 17" in r.json()["detail"]
