@@ -58,9 +58,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.settings = settings
     app.state.work_gate = WorkGate(settings)
     app.state.curve_service = CurveService(settings)
-    app.state.indexer_service = IndexerService(app.state.curve_service)
-    app.state.profile_service = ProfileService(app.state.curve_service)
     app.state.motion_service = MotionService(app.state.curve_service)
+    app.state.indexer_service = IndexerService(app.state.curve_service, app.state.motion_service)
+    app.state.profile_service = ProfileService(app.state.curve_service, app.state.motion_service)
     install_error_handlers(app)
     app.example_routers = (health_router, curves.router, indexers.router, profiles.router, motions.router,
                            plots.router, dynamics.router)

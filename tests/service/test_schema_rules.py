@@ -117,6 +117,20 @@ def indexer(**fields: Any) -> tuple[str, dict[str, Any]]:
     return "/v1/indexers/motion", {"indexer": {k: v for k, v in spec.items() if v is not None}, "samples": 11}
 
 
+#: 6 stops as a timing chart: 60° over 270° of input (MS), dwell 90°
+TIMING_CHART = {"unit": "deg", "segments": [{"span_deg": 270, "stroke": 60, "curve": MS},
+                                            {"span_deg": 90, "type": "dwell"}]}
+#: a closed program in mm: rise 20 mm, dwell, return, dwell
+CLOSED_MM = {"segments": [{"span_deg": 120, "to": 20}, {"span_deg": 60, "type": "dwell"}, {"span_deg": 120, "to": 0},
+                          {"span_deg": 60, "type": "dwell"}]}
+
+
+def timing(**fields: Any) -> tuple[str, dict[str, Any]]:
+    """An indexer driven by :data:`TIMING_CHART` at 60 rpm; ``fields`` add or replace (None removes)."""
+    spec = {"speed_rpm": 60, "timing": TIMING_CHART, **fields}
+    return "/v1/indexers/motion", {"indexer": {k: v for k, v in spec.items() if v is not None}, "samples": 11}
+
+
 def load(**fields: Any) -> tuple[str, dict[str, Any]]:
     spec = {"parts": [DISC], **fields}
     return "/v1/indexers/sizing", {"indexer": INDEXER, "load": spec}
@@ -208,9 +222,24 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
         [table(t=[0.5])], [(table(t=[]), "t must list at least one time")]),
     # indexer and load
     "give exactly one of stops (n) and swing_angle_deg (ψ, oscillating units)": (
-        [indexer(), indexer(stops=None, swing_angle_deg=60)],
+        [indexer(), indexer(stops=None, swing_angle_deg=60), timing()],
         [(indexer(swing_angle_deg=60), "give exactly one of stops (n) and swing_angle_deg"),
          (indexer(stops=None), "give exactly one of stops (n) and swing_angle_deg")]),
+    "a timing chart replaces stops, swing_angle_deg, indexing_angle_deg, dwells and curve: give none of them": (
+        [timing(), timing(cycle_time_s=1.5, speed_rpm=None)],
+        [(timing(stops=6), "a timing chart replaces stops"), (timing(dwells=1), "a timing chart replaces stops"),
+         (timing(indexing_angle_deg=270), "a timing chart replaces stops"),
+         (timing(curve=MS), "a timing chart replaces stops")]),
+    "indexing_angle_deg (θh) is needed without a timing chart": (
+        [indexer()], [(indexer(indexing_angle_deg=None), "indexing_angle_deg (θh) is needed")]),
+    "a timing chart gives the output angle in deg over one input turn (period_deg 360)": (
+        [timing()],
+        [(timing(timing={**TIMING_CHART, "unit": "mm"}), "a timing chart gives the output angle in 'deg'"),
+         (timing(timing={k: v for k, v in TIMING_CHART.items() if k != "unit"}),
+          "a timing chart gives the output angle in 'deg'"),
+         (timing(timing={**TIMING_CHART, "period_deg": 720, "segments": [
+             {"span_deg": 540, "stroke": 60, "curve": MS}, {"span_deg": 180, "type": "dwell"}]}),
+          "a timing chart spans one input turn")]),
     "give exactly one of speed_rpm (N) and cycle_time_s (t0 = 60/(N·z))": (
         [indexer(speed_rpm=None, cycle_time_s=2)],
         [(indexer(cycle_time_s=1), "give exactly one of speed_rpm (N) and cycle_time_s"),
@@ -268,11 +297,22 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
         [cam(ROLLER, segments=segments({"lift_mm": 20}, rise={"curve": {**MS, "direction": "rise"}}))],
         [(cam(ROLLER, segments=segments({"lift_mm": 20}, rise={"curve": {**MS, "direction": "return"}})),
           "a segment's type sets its direction")]),
-    "give the lift either as segments or as one lift curve (bezier or points)": (
-        [cam(ROLLER, segments=None, lift={"type": "points", "t": [0, 180, 360], "s": [0, 10, 0]})],
-        [(cam(ROLLER, segments=None), "give the lift either as segments or as one lift curve"),
+    "give the lift as segments, as one lift curve (bezier or points) or as a motion program": (
+        [cam(ROLLER, segments=None, lift={"type": "points", "t": [0, 180, 360], "s": [0, 10, 0]}),
+         cam(ROLLER, segments=None, motion=CLOSED_MM)],
+        [(cam(ROLLER, segments=None), "give the lift as segments, as one lift curve"),
          (cam(ROLLER, lift={"type": "points", "t": [0, 180, 360], "s": [0, 10, 0]}),
-          "give the lift either as segments or as one lift curve")]),
+          "give the lift as segments, as one lift curve"),
+         (cam(ROLLER, motion=CLOSED_MM), "give the lift as segments, as one lift curve")]),
+    "an oscillating follower's motion program is in deg (of swing)": (
+        [cam(OSCILLATING, segments=None, motion={**CLOSED_MM, "unit": "deg"})],
+        [(cam(OSCILLATING, segments=None, motion=CLOSED_MM), "an oscillating follower's motion program is in deg"),
+         (cam(OSCILLATING, segments=None, motion={**CLOSED_MM, "unit": "mm"}),
+          "an oscillating follower's motion program is in deg")]),
+    "a translating follower's motion program is in mm": (
+        [cam(ROLLER, segments=None, motion={**CLOSED_MM, "unit": "mm"})],
+        [(cam(ROLLER, segments=None, motion={**CLOSED_MM, "unit": "deg"}),
+          "a translating follower's motion program is in mm")]),
     "an oscillating follower's lift is swing_deg, not lift_mm": (
         [cam(OSCILLATING, segments=segments({"swing_deg": 20}))],
         [(cam(OSCILLATING, segments=segments({"lift_mm": 20})), "an oscillating follower's lift is swing_deg")]),
@@ -428,7 +468,7 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     # the order of an array's items (JSON Schema compares no two items)
     "break points must satisfy T0 ≤ T1 ≤ … ≤ T7", "the curve needs T7 > T0", "t must be strictly increasing",
     "are too close to tell apart relative to the range of t", "all points have the same s",
-    "The lift curve does not close", "spans of the lift curve",
+    "The lift curve does not close", "periods of the lift curve", "does not fit a whole number of times",
     # the lengths of two arrays
     "t and s must have the same length", "v must have one slope per point",
     # two numbers of a spec compared, or summed, or multiplied
