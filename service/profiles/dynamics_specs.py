@@ -17,6 +17,7 @@ from camcore.profile.dynamics import (
 )
 from camcore.profile.dynamics.load import STEEL_POISSON_RATIO, STEEL_YOUNGS_MODULUS_MPA
 from service.models import answer_model
+from service.motions.specs import MAKINO_CYCLE
 from service.profiles.specs import OSCILLATING, ROLLER_PROFILE_EXAMPLE, TRANSLATING, ProfileSpec
 from service.specs import BIG, JSON_INTEGER, Finite, Spec, absent, examples, given, rule
 
@@ -140,6 +141,10 @@ DYNAMICS_EXAMPLES: dict[str, Example] = {
                "value": DYNAMICS_EXAMPLE},
     "separates": {"summary": "the same cam at 1500 rpm: the follower jumps; min_preload_n says what holds it",
                   "value": {**DYNAMICS_EXAMPLE, "speed_rpm": 1500}},
+    "motion": {"summary": "Makino's cutting-unit cycle (1977, §5.3) as the lift: the rapid feed decelerates hardest",
+               "value": {"profile": {"follower": {"type": "roller", "roller_radius_mm": 10}, "base_radius_mm": 60,
+                                     "motion": MAKINO_CYCLE},
+                         "speed_rpm": 60, "mass_kg": 2, "spring_rate_n_mm": 1, "preload_n": 50, "samples": 73}},
     "oscillating": {"summary": "an oscillating roller arm, with damping and the contact stress on a cast-iron cam",
                     "value": {"profile": OSCILLATING_PROFILE, "speed_rpm": 400, "inertia_kgm2": 0.004,
                               "spring_rate_nm_rad": 20, "preload_nm": 3, "damping_nm_s_rad": 0.002,

@@ -239,3 +239,25 @@ async def test_operations_are_in_the_openapi_document(client: httpx.AsyncClient)
     answer = spec["components"]["schemas"]["DynamicsAnswer"]["properties"]
     # the unit-less lift columns say their units
     assert re.search(r"\[mm\].*\[deg\]", answer["lift"]["description"])
+
+
+async def test_a_profile_driven_by_a_motion_program(client: httpx.AsyncClient) -> None:
+    """Makino's cutting-unit cycle (1977, §5.3) as the lift: the dynamics' lift and acceleration are
+    computeMotion's s and a_per_s2 at the same speed, and the contact force is m·a/1000 + k·s + F0
+    computed from them."""
+    from service.motions.specs import MAKINO_CYCLE
+
+    profile = {"follower": {"type": "roller", "roller_radius_mm": 10}, "base_radius_mm": 60, "motion": MAKINO_CYCLE}
+    body = {"profile": profile, "speed_rpm": 60, "mass_kg": 2, "spring_rate_n_mm": 1, "preload_n": 50, "samples": 73}
+    r = await client.post(URL, json=body)
+    assert r.status_code == 200, r.text
+    dyn = r.json()
+    motion = (await client.post("/v1/motions", json={"motion": MAKINO_CYCLE, "samples": 73, "speed_rpm": 60})).json()
+    assert np.allclose(dyn["lift"], motion["s"], rtol=1e-12, atol=1e-12)
+    assert np.allclose(dyn["acceleration"], motion["a_per_s2"], rtol=1e-12, atol=1e-9)
+    force = 2 * np.array(motion["a_per_s2"]) / 1000 + 1 * np.array(motion["s"]) + 50
+    assert np.allclose(dyn["contact_force_n"], force, rtol=1e-12, atol=1e-9)
+    summary = dyn["summary"]
+    assert summary["min_contact_force_n"] <= min(dyn["contact_force_n"])
+    # the rapid feed (curve 1 over 0-60°) decelerates hardest: the follower would leave the cam there first
+    assert 0 < summary["jump_at_deg"] < 60 and summary["jump_speed_rpm"] > 60
