@@ -273,4 +273,8 @@ def power_balance_peaks(curve: PiecewiseCurve, c1: ArrayLike, c2: ArrayLike
     position = np.arange(f_s.size)
     first_top = np.minimum.reduceat(np.where(f_s == top[r_s], position, f_s.size), bounds[:-1])
     first_bottom = np.minimum.reduceat(np.where(f_s == bottom[r_s], position, f_s.size), bounds[:-1])
+    # a row whose f is not finite everywhere (inputs past float range) has no extreme to find:
+    # its first candidate stands in (the answer refuses the non-finite values)
+    first_top = np.where(first_top < f_s.size, first_top, bounds[:-1])
+    first_bottom = np.where(first_bottom < f_s.size, first_bottom, bounds[:-1])
     return top, t_s[first_top], bottom, t_s[first_bottom]

@@ -7,6 +7,7 @@ References
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from ..errors import InvalidParameterError
@@ -72,3 +73,21 @@ def check_total_indexing_angle(indexing_angle_deg: float, dwells: int) -> None:
             f"the total indexing angle θt = θh·z must not exceed 360°, but indexing_angle_deg × dwells = "
             f"{indexing_angle_deg!r} × {dwells} = {indexing_angle_deg * dwells!r}."
         )
+
+
+def check_curve_moves(curve: Any) -> None:
+    """A curve drives an index only if it moves: S(T7) ≠ S(T0), T7 > T0.
+
+    Parameters
+    ----------
+    curve : Curve
+        The cam curve.
+
+    References
+    ----------
+    INDEXMAN technical guide, section 5 (s = h·S: the output travels h as S goes from 0 to 1).
+    """
+    d_t = curve.t_end - curve.t_start
+    d_s = curve.s_end - curve.s_start
+    if not (math.isfinite(d_s) and d_s != 0 and d_t > 0):
+        raise InvalidParameterError("the curve must move (S at T7 different from S at T0) to drive an index.")

@@ -44,7 +44,7 @@ from .._checks import count, finite, non_negative, positive
 from ..curves.catalog import named_curve
 from ..curves.curve import Curve
 from ..errors import InvalidParameterError, StrokeRangeError
-from .checks import check_alternatives, check_total_indexing_angle
+from .checks import check_alternatives, check_curve_moves, check_total_indexing_angle
 from .results import IndexerMotion, IndexerPosition, MotionSummary, MotionTable
 
 
@@ -169,13 +169,7 @@ class Indexer:
         else:
             put(self, "cycle_time_s", positive("cycle_time_s", self.cycle_time_s))
         put(self, "input_stop_time_s", non_negative("input_stop_time_s", self.input_stop_time_s))
-        c = self.curve
-        d_t = c.t_end - c.t_start
-        d_s = c.s_end - c.s_start
-        if not (math.isfinite(d_s) and d_s != 0 and d_t > 0):
-            raise InvalidParameterError(
-                "the curve must move (S at T7 different from S at T0) to drive an index."
-            )
+        check_curve_moves(self.curve)
 
     # ------------------------------------------------------------ derived values
     @property

@@ -19,7 +19,7 @@ import numpy as np
 from ..curves.base import FloatArray
 from ..curves.curve import Curve
 from ..errors import InvalidParameterError
-from .checks import check_speed_alternatives
+from .checks import check_curve_moves, check_speed_alternatives
 from .load import Load
 from .sizing import _curve_peaks, _figures
 
@@ -63,6 +63,12 @@ def size_sweep(load: Load, stops: Sequence[int], indexing_angle_deg: Sequence[fl
     check_speed_alternatives(speed_rpm, cycle_time_s)
     if len(curves) != len(curve_names):
         raise InvalidParameterError("give one name per curve.")
+    for i, curve in enumerate(curves):
+        try:
+            check_curve_moves(curve)
+        except InvalidParameterError as exc:
+            exc.field = ("curves", i)
+            raise
     speeds = np.asarray(speed_rpm if speed_rpm is not None else [60.0 / t for t in cycle_time_s or ()], dtype=np.float64)
     n_arr = np.asarray(stops, dtype=np.float64)
     theta = np.asarray(indexing_angle_deg, dtype=np.float64)

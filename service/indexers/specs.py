@@ -65,8 +65,8 @@ class IndexerSpec(Spec):
                rule("indexing_angle_deg (θh) is needed without a timing chart",
                     {"if": {"not": given("timing")}, "then": given("indexing_angle_deg")}),
                rule("a timing chart gives the output angle in deg over one input turn (period_deg 360)",
-                    {"properties": {"timing": {"required": ["unit"], "properties": {
-                        "unit": {"const": "deg"}, "period_deg": {"const": 360}}}}}),
+                    {"if": given("timing"), "then": {"properties": {"timing": {"required": ["unit"], "properties": {
+                        "unit": {"const": "deg"}, "period_deg": {"const": 360}}}}}}),
                rule("give exactly one of speed_rpm (N) and cycle_time_s (t0 = 60/(N·z))",
                     exactly_one("speed_rpm", "cycle_time_s"))])
     stops: Annotated[int, Field(ge=1, le=100_000), JSON_INTEGER] | None = Field(None, description="n, stops per output turn")

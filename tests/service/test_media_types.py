@@ -33,6 +33,8 @@ PROFILE = {"profile": KNIFE_EDGE_PROFILE_EXAMPLE, "samples": 37}
 PROGRAM = {"motion": FEED_CYCLE, "samples": 13}
 DYNAMICS = {**DYNAMICS_EXAMPLE, "samples": 13}
 CSV_ACCEPT = {"Accept": "text/csv"}
+SWEEP = {"load": {"inertia_kgm2": 2}, "stops": [6], "indexing_angle_deg": [270], "curves": [{"type": "named", "name": "MS"}],
+         "speed_rpm": [30, 60]}
 
 # (method, path template, url, body, headers, media type answered)
 CASES: list[tuple[str, str, str, dict[str, Any] | None, dict[str, str], str]] = [
@@ -50,6 +52,10 @@ CASES: list[tuple[str, str, str, dict[str, Any] | None, dict[str, str], str]] = 
     ("POST", "/v1/indexers/motion.csv", "/v1/indexers/motion.csv", MOTION, {}, "text/csv"),
     ("POST", "/v1/indexers/position", "/v1/indexers/position", POSITION, CSV_ACCEPT, "text/csv"),
     ("POST", "/v1/indexers/position.csv", "/v1/indexers/position.csv", POSITION, {}, "text/csv"),
+    ("POST", "/v1/indexers/sizing/sweep", "/v1/indexers/sizing/sweep", SWEEP, {}, "application/json"),
+    ("POST", "/v1/indexers/sizing/sweep", "/v1/indexers/sizing/sweep", SWEEP, CSV_ACCEPT, "text/csv"),
+    ("POST", "/v1/indexers/sizing/sweep", "/v1/indexers/sizing/sweep?format=png", SWEEP, {}, "image/png"),
+    ("POST", "/v1/indexers/sizing/sweep", "/v1/indexers/sizing/sweep?format=svg", SWEEP, {}, "image/svg+xml"),
     ("POST", "/v1/motions", "/v1/motions", PROGRAM, {}, "application/json"),
     ("POST", "/v1/motions", "/v1/motions?format=csv", PROGRAM, {}, "text/csv"),
     ("POST", "/v1/motions", "/v1/motions", PROGRAM, CSV_ACCEPT, "text/csv"),

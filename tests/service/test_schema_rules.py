@@ -481,6 +481,7 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     # what the curve or the cam turns out to be, known once computed
     "these break points cannot reach both S7 and V7", "is outside the stroke of this curve",
     "displacement S is not monotone over its stroke", "the curve must move", "is outside the index",
+    "do not determine a polynomial of degree",
     "One cam turn is", "The arm cannot be assembled",
     # a motion program: its spans summed, two of its segments together (JSON Schema compares no two
     # items), and what it turns out to be once resolved (strokes, solved T4, matched laws)
