@@ -165,6 +165,17 @@ def cutting_feed(curve_2: dict[str, Any], to: float | None = None) -> tuple[str,
     return "/v1/motions", {"motion": {"segments": segments}, "samples": 11}
 
 
+def dynamics(follower: dict[str, Any] = ROLLER, lift: dict[str, float] | None = None,
+             **fields: Any) -> tuple[str, dict[str, Any]]:
+    """A follower on the cam of :func:`profile` at 300 rpm; ``fields`` give its load (None: left out)."""
+    body = {"profile": profile(follower, segments=segments(lift or {"lift_mm": 20})), "speed_rpm": 300,
+            "samples": 11, **fields}
+    return "/v1/profiles/dynamics", {k: v for k, v in body.items() if v is not None}
+
+
+TRANSLATING_LOAD = {"mass_kg": 0.5, "spring_rate_n_mm": 2, "preload_n": 30}
+OSCILLATING_LOAD = {"inertia_kgm2": 0.004, "spring_rate_nm_rad": 20, "preload_nm": 3}
+
 #: rule → (bodies that keep it, [(a body that breaks it, words of the app's 422)]).
 #: A model rule is named by its description in the document, a keyword by its JSON pointer.
 RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, dict[str, Any]], str]]]] = {
@@ -357,6 +368,25 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
         [program(samples=None, x_deg=[10])], [(program(x_deg=[10]), "give either samples or x_deg, not both")]),
     "/components/schemas/MotionProgramRequest/properties/x_deg/anyOf/0/minItems": (
         [program(samples=None, x_deg=[10])], [(program(samples=None, x_deg=[]), "x_deg must list at least one angle")]),
+    # follower dynamics
+    "a translating follower's load is mass_kg and spring_rate_n_mm (with preload_n, external_force_n, damping_n_s_mm), "
+    "not the torques of an oscillating one": (
+        [dynamics(**TRANSLATING_LOAD), dynamics({"type": "knife-edge"}, mass_kg=1, spring_rate_n_mm=1)],
+        [(dynamics(mass_kg=1), "(missing spring_rate_n_mm)"),
+         (dynamics(**TRANSLATING_LOAD, preload_nm=3), "(preload_nm given)"),
+         (dynamics(**TRANSLATING_LOAD, damping_nm_s_rad=0.1), "(damping_nm_s_rad given)")]),
+    "an oscillating follower's load is inertia_kgm2 and spring_rate_nm_rad (with preload_nm, external_torque_nm, "
+    "damping_nm_s_rad), not the forces of a translating one": (
+        [dynamics(OSCILLATING, {"swing_deg": 20}, **OSCILLATING_LOAD)],
+        [(dynamics(OSCILLATING, {"swing_deg": 20}, inertia_kgm2=0.004), "(missing spring_rate_nm_rad)"),
+         (dynamics(OSCILLATING, {"swing_deg": 20}, **OSCILLATING_LOAD, external_force_n=3),
+          "(external_force_n given)")]),
+    "roller (width and materials, for the contact stress) needs a roller follower": (
+        [dynamics(**TRANSLATING_LOAD, roller={"width_mm": 10})],
+        [(dynamics({"type": "flat-faced"}, **TRANSLATING_LOAD, roller={"width_mm": 10}),
+          "needs a roller follower, not a flat-faced follower"),
+         (dynamics({"type": "knife-edge"}, **TRANSLATING_LOAD, roller={"width_mm": 10}),
+          "needs a roller follower, not a knife-edge follower")]),
     "give max_pressure_angle_deg and/or min_radius_of_curvature_mm (a flat-faced follower may give neither)": (
         [base_circle(ROLLER, max_pressure_angle_deg=30), base_circle({"type": "flat-faced"})],
         [(base_circle(ROLLER), "give max_pressure_angle_deg and/or min_radius_of_curvature_mm")]),
@@ -461,6 +491,9 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     "but this law starts at rest", "ends at rest, so that stroke is 0", "(nearly) dependent, so no one spline",
     "the law ends where it starts", "needs a stroke to scale its neighbours' velocities", "which is 0 here",
     "the neighbours' velocities scaled to this universal curve are not finite", "where the program has no other segment",
+    # follower dynamics: what the cam turns out to be (an impact where its lift's velocity jumps, a
+    # roller that undercuts it), known once the lift is evaluated
+    "the follower's acceleration is infinite there (an impact)", "The roller undercuts the cam",
     # a result beyond the range of float64
     "produced a non-finite number",
 )))
