@@ -48,6 +48,7 @@ class Settings(BaseSettings):
     max_bezier_degree: int = Field(20, ge=1)  # degree 20 at 2e5 samples answers in ~0.5 s here
     max_curve_points: int = Field(10_000, ge=2)
     max_motion_segments: int = Field(100, ge=1, description="segments of a motion program; more: 413")
+    max_sweep_combinations: int = Field(10000, ge=1, description="designs of one sizing sweep; more: 413")
     max_vibration_tau_values: int = Field(10_000, ge=1, description="τ values of a residual-vibration spectrum; more: 413")
 
     # work (camcore.work estimates it before it runs; service.admission admits it)

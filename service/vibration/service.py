@@ -108,7 +108,7 @@ class VibrationService:
         try:
             inertia = body.inertia_kgm2 if body.inertia_kgm2 is not None else _load_inertia(body.load)
             rpm = body.indexer.speed_rpm or 60.0 / ((body.indexer.cycle_time_s or 1.0) * body.indexer.dwells)
-            th = body.indexer.indexing_angle_deg / 360.0 * 60.0 / rpm
+            th = (body.indexer.indexing_angle_deg or 360.0) / 360.0 * 60.0 / rpm
             tau = th * (body.stiffness_nm_rad / inertia) ** 0.5 / (2 * np.pi)
         except (ArithmeticError, ValueError):
             return camcore.dynamics.TAU_MIN
@@ -132,6 +132,7 @@ class VibrationService:
         """The answer's fields and its table."""
         self.curves.check_limit("table samples", body.samples, self.curves.settings.max_table_samples, ("samples",))
         unit = self.indexers.indexer(body.indexer)
+        assert isinstance(unit, camcore.indexer.Indexer)  # the request's rule: no timing chart
         if body.inertia_kgm2 is not None:
             inertia = body.inertia_kgm2
         else:

@@ -11,7 +11,7 @@ from camcore.dynamics import TAU_MAX, TAU_MIN, IndexerVibration, ResidualVibrati
 from service.curves.specs import MS_SPEC, CurveSpec
 from service.indexers.specs import INDEXER_EXAMPLE, LOAD_EXAMPLE, IndexerSpec, LoadSpec
 from service.models import answer_model
-from service.specs import JSON_INTEGER, Spec, exactly_one, examples, rule
+from service.specs import JSON_INTEGER, Spec, exactly_one, examples, given, rule
 
 #: τ = th·fn within camcore's range (camcore.dynamics.vibration.TAU_MIN, TAU_MAX say why)
 Tau = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=TAU_MIN, le=TAU_MAX)]
@@ -50,12 +50,18 @@ class VibrationRequest(Spec):
         return self
 
 
+#: one index along one curve: a timing chart (several moves over an input turn) is not modelled
+SINGLE_CURVE = ("the residual vibration takes an indexer with one curve (stops or swing_angle_deg, indexing_angle_deg, "
+                "curve), not a timing chart")
+
+
 class IndexerVibrationRequest(Spec):
     model_config = examples(
         {"indexer": INDEXER_EXAMPLE, "inertia_kgm2": 2.25, "stiffness_nm_rad": 2e5, "damping_ratio": 0.05,
          "tolerance_arcsec": 10},
         rules=[rule("give the load's inertia as inertia_kgm2 or as load: one of them, not both",
-                    exactly_one("inertia_kgm2", "load"))])
+                    exactly_one("inertia_kgm2", "load")),
+               rule(SINGLE_CURVE, {"not": {"required": ["indexer"], "properties": {"indexer": given("timing")}}})])
     indexer: IndexerSpec
     inertia_kgm2: PositiveQuantity | None = Field(None, description="I, the load inertia on the output")
     load: LoadSpec | None = Field(None, description="the load (instead of inertia_kgm2): only its inertia is used")
@@ -69,6 +75,8 @@ class IndexerVibrationRequest(Spec):
     def _check(self) -> IndexerVibrationRequest:
         if (self.inertia_kgm2 is None) == (self.load is None):
             raise ValueError("give the load's inertia as inertia_kgm2 or as load: one of them, not both")
+        if self.indexer.timing is not None:
+            raise ValueError(SINGLE_CURVE)
         return self
 
 

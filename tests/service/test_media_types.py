@@ -18,6 +18,7 @@ import pytest
 from service.app import create_app
 from service.indexers.specs import INDEXER_EXAMPLE
 from service.motions.specs import FEED_CYCLE
+from service.profiles.dynamics_specs import DYNAMICS_EXAMPLE
 from service.profiles.specs import KNIFE_EDGE_PROFILE_EXAMPLE
 
 pytestmark = pytest.mark.anyio
@@ -30,10 +31,13 @@ MOTION = {"indexer": INDEXER_EXAMPLE, "samples": 11}
 POSITION = {"indexer": INDEXER_EXAMPLE, "output_angle_deg": [11]}
 PROFILE = {"profile": KNIFE_EDGE_PROFILE_EXAMPLE, "samples": 37}
 PROGRAM = {"motion": FEED_CYCLE, "samples": 13}
+DYNAMICS = {**DYNAMICS_EXAMPLE, "samples": 13}
 SPECTRUM = {"curve": MS, "tau": [1, 2.5]}
 INDEXER_VIBRATION = {"indexer": INDEXER_EXAMPLE, "inertia_kgm2": 2.25, "stiffness_nm_rad": 2e5, "tolerance_arcsec": 10,
                      "samples": 11}
 CSV_ACCEPT = {"Accept": "text/csv"}
+SWEEP = {"load": {"inertia_kgm2": 2}, "stops": [6], "indexing_angle_deg": [270], "curves": [{"type": "named", "name": "MS"}],
+         "speed_rpm": [30, 60]}
 
 # (method, path template, url, body, headers, media type answered)
 CASES: list[tuple[str, str, str, dict[str, Any] | None, dict[str, str], str]] = [
@@ -51,6 +55,10 @@ CASES: list[tuple[str, str, str, dict[str, Any] | None, dict[str, str], str]] = 
     ("POST", "/v1/indexers/motion.csv", "/v1/indexers/motion.csv", MOTION, {}, "text/csv"),
     ("POST", "/v1/indexers/position", "/v1/indexers/position", POSITION, CSV_ACCEPT, "text/csv"),
     ("POST", "/v1/indexers/position.csv", "/v1/indexers/position.csv", POSITION, {}, "text/csv"),
+    ("POST", "/v1/indexers/sizing/sweep", "/v1/indexers/sizing/sweep", SWEEP, {}, "application/json"),
+    ("POST", "/v1/indexers/sizing/sweep", "/v1/indexers/sizing/sweep", SWEEP, CSV_ACCEPT, "text/csv"),
+    ("POST", "/v1/indexers/sizing/sweep", "/v1/indexers/sizing/sweep?format=png", SWEEP, {}, "image/png"),
+    ("POST", "/v1/indexers/sizing/sweep", "/v1/indexers/sizing/sweep?format=svg", SWEEP, {}, "image/svg+xml"),
     ("POST", "/v1/motions", "/v1/motions", PROGRAM, {}, "application/json"),
     ("POST", "/v1/motions", "/v1/motions?format=csv", PROGRAM, {}, "text/csv"),
     ("POST", "/v1/motions", "/v1/motions", PROGRAM, CSV_ACCEPT, "text/csv"),
@@ -64,6 +72,12 @@ CASES: list[tuple[str, str, str, dict[str, Any] | None, dict[str, str], str]] = 
     ("POST", "/v1/profiles/contour.csv", "/v1/profiles/contour.csv", PROFILE, {}, "text/csv"),
     ("POST", "/v1/profiles/contour.dxf", "/v1/profiles/contour.dxf", PROFILE, {}, "application/dxf"),
     ("POST", "/v1/profiles/contour.xyz", "/v1/profiles/contour.xyz", PROFILE, {}, "text/plain"),
+    ("POST", "/v1/profiles/dynamics", "/v1/profiles/dynamics", DYNAMICS, {}, "application/json"),
+    ("POST", "/v1/profiles/dynamics", "/v1/profiles/dynamics?format=csv", DYNAMICS, {}, "text/csv"),
+    ("POST", "/v1/profiles/dynamics", "/v1/profiles/dynamics", DYNAMICS, CSV_ACCEPT, "text/csv"),
+    ("POST", "/v1/profiles/dynamics/table.csv", "/v1/profiles/dynamics/table.csv", DYNAMICS, {}, "text/csv"),
+    ("GET", "/v1/profiles/dynamics/plot", "/v1/profiles/dynamics/plot?speed_rpm=600&mass_kg=0.5&spring_rate_n_mm=2"
+     "&samples=101&format=png", None, {}, "image/png"),
     ("GET", "/v1/curves/{name}/plot", "/v1/curves/MS/plot?samples=101", None, {}, "image/svg+xml"),
     ("GET", "/v1/curves/{name}/plot", "/v1/curves/MS/plot?samples=101&format=png", None, {}, "image/png"),
     ("GET", "/v1/indexers/plot", "/v1/indexers/plot?stops=6&indexing_angle_deg=270&speed_rpm=60&samples=101&format=png",
@@ -121,7 +135,7 @@ def test_json_answers_keep_their_models_and_come_first() -> None:
 def test_file_twins_answer_only_their_file() -> None:
     twins = {path: ops["post"] if "post" in ops else ops["get"] for path, ops in DOC["paths"].items()
              if path.endswith((".csv", ".dxf", ".xyz"))}
-    assert len(twins) == 13, sorted(twins)
+    assert len(twins) == 14, sorted(twins)
     for path, op in twins.items():
         content = op["responses"]["200"]["content"]
         assert len(content) == 1, (path, list(content))
