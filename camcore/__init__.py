@@ -3,11 +3,11 @@
 Anyone can ``import camcore`` in a notebook or a batch job and get the numbers the
 service gives. The packages: :mod:`camcore.curves` (motion laws, characteristic values,
 inverses, the catalog), :mod:`camcore.indexer` (cam indexers), :mod:`camcore.profile`
-(plate cams), :mod:`camcore.export` (contour files); results become plain data through
-:mod:`camcore.results`.
+(plate cams), :mod:`camcore.dynamics` (residual vibration of followers and indexer loads),
+:mod:`camcore.export` (contour files); results become plain data through :mod:`camcore.results`.
 """
 
-from . import curves, export, indexer, profile
+from . import curves, dynamics, export, indexer, profile
 from .curves import (
     CATALOG,
     CURVE_KINDS,
@@ -48,6 +48,6 @@ __all__ = [
     "DegenerateCurveError", "Extremum", "GeometryError", "Indexer", "InvalidBreakPointsError",
     "InvalidParameterError", "LimitExceededError", "Load", "LoadPart", "NonMonotoneError", "PolynomialCurve",
     "ReturnCurve", "StrokeClosureError", "StrokeRangeError", "UniversalCurve", "UnknownCurveError", "__version__",
-    "accuracy_mm", "as_dict", "build_curve", "curves", "export", "indexer", "lookup", "makino_curve",
+    "accuracy_mm", "as_dict", "build_curve", "curves", "dynamics", "export", "indexer", "lookup", "makino_curve",
     "named_curve", "named_polynomial", "polynomial_from_boundary", "profile", "size", "universal_curve",
 ]

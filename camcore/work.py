@@ -15,6 +15,7 @@ References
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -296,3 +297,68 @@ def dynamics_work(laws: Sequence[LawCost | None], samples: int, segments_field: 
     return WorkEstimate((WorkTerm(segments_field, f"the follower dynamics of {max(len(laws), 1)} segments",
                                   extremes),)) + per_item_work(samples, PROFILE_SAMPLE_S + slowest, samples_field,
                                                                f"{samples} dynamics rows")
+
+
+#: residual vibration (camcore.dynamics), measured over catalog, spline and Bezier curves at
+#: τ = 0.001-1000 (1 to 3 000 values), best of 3 on a busy machine, ×1.5: one node of one
+#: subcell at one τ value, 55-140 ns with the peak deviation (the integrals to every node, the
+#: deviation, the peak's candidates), 14-60 ns for the residual amplitude alone; per τ value,
+#: the peak's refinement (Newton's iteration on at most 32 intervals), ~10 µs; per band of τ
+#: (its Ω within a factor 2), cutting the subcells and the batches, ~1 ms; building the smooth
+#: cells of the acceleration, the curve at 17 nodes per cell about twice over
+VIBRATION_NODE_S = 1.5 * 1.4e-7
+VIBRATION_RESIDUAL_NODE_S = 1.5 * 6e-8
+VIBRATION_TAU_S = 1.5 * 1e-5
+VIBRATION_BAND_S = 1.5 * 1e-3
+VIBRATION_CELL_SAMPLES = 2 * 17
+#: nodes per subcell (camcore.dynamics._chebyshev.NODES)
+VIBRATION_NODES = 32
+
+
+def vibration_work(law: LawCost, cells: int, tau: Sequence[float], field: Field, peak: bool = True) -> WorkEstimate:
+    """The residual vibration of one curve at each τ (camcore.dynamics.residual_vibration).
+
+    The τ values fall into bands whose Ω = 2πτ lie within a factor 2 (as camcore groups them);
+    a band's subcells are the curve's cells cut so that Ω·length ≤ 4 at its largest τ, at most
+    ``cells`` + π·τ/2 of them, with 32 nodes each, at which the curve is evaluated once per band
+    and the response computed once per τ value.
+
+    Parameters
+    ----------
+    law : LawCost
+        The curve's cost (:func:`law_cost`): its ``sample_s`` prices each node's acceleration.
+    cells : int
+        Smooth cells of its acceleration, as estimated before it is built (a piece each for
+        closed forms, a spline interval each) [-].
+    tau : sequence of float
+        The τ values [-].
+    field : tuple
+        The request field of the τ values.
+    peak : bool
+        With the peak deviation (residual_vibration), or the residual amplitude alone
+        (residual_amplitude).
+
+    Returns
+    -------
+    WorkEstimate
+        One term [s].
+
+    References
+    ----------
+    camcore.dynamics._response (the subcells); the measurements beside :data:`VIBRATION_NODE_S`.
+    """
+    bands: dict[int, tuple[float, int]] = {}
+    for t in tau:
+        band = max(0, math.floor(math.log2(2 * math.pi * t)))
+        largest, count = bands.get(band, (0.0, 0))
+        bands[band] = (max(largest, t), count + 1)
+    nodes = sampled = 0.0
+    for largest, count in bands.values():
+        subcells = cells + math.pi * largest / 2
+        nodes += count * subcells
+        sampled += subcells
+    per_node = VIBRATION_NODE_S if peak else VIBRATION_RESIDUAL_NODE_S
+    seconds = (VIBRATION_NODES * (nodes * per_node + 1.5 * sampled * law.sample_s)
+               + 1.5 * VIBRATION_CELL_SAMPLES * cells * law.sample_s + len(bands) * VIBRATION_BAND_S
+               + (len(tau) * VIBRATION_TAU_S if peak else 0.0))
+    return WorkEstimate((WorkTerm(field, f"the response at {len(tau)} values of τ", seconds),))

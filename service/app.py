@@ -26,6 +26,7 @@ from service.profiles import routes as profiles
 from service.profiles.service import ProfileService
 from service.security import install_security
 from service.settings import Settings
+from service.vibration import routes as vibration
 
 DESCRIPTION = """Cam motion curves (Makino's universal cam curve, the INDEXMAN catalog curves,
 polynomial laws, Bezier and measured-point curves), characteristic values, exact inverse
@@ -62,8 +63,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.indexer_service = IndexerService(app.state.curve_service, app.state.motion_service)
     app.state.profile_service = ProfileService(app.state.curve_service, app.state.motion_service)
     install_error_handlers(app)
+    # vibration before plots: its GET /v1/curves/vibration/plot would match /v1/curves/{name}/plot
     app.example_routers = (health_router, curves.router, indexers.router, profiles.router, motions.router,
-                           plots.router, dynamics.router)
+                           vibration.router, plots.router, dynamics.router)
     for router in app.example_routers:
         app.include_router(router)
     install_offline_docs(app)  # before security: it publishes the asset paths left open

@@ -49,6 +49,7 @@ class Settings(BaseSettings):
     max_curve_points: int = Field(10_000, ge=2)
     max_motion_segments: int = Field(100, ge=1, description="segments of a motion program; more: 413")
     max_sweep_combinations: int = Field(10000, ge=1, description="designs of one sizing sweep; more: 413")
+    max_vibration_tau_values: int = Field(10_000, ge=1, description="τ values of a residual-vibration spectrum; more: 413")
 
     # work (camcore.work estimates it before it runs; service.admission admits it)
     max_work_s: float = Field(1.0, gt=0, le=3600, description="budget: a request estimated to need more is refused (413)")

@@ -9,7 +9,7 @@ References
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from dataclasses import dataclass
 
 from .._checks import finite
@@ -230,27 +230,55 @@ def makino_curve(number: int, **params: float | None) -> UniversalCurve:
     ----------
     Makino (1977), table 2, eqs. (13)-(16), subroutine CURVE.
     """
+    given = {k for k, v in params.items() if v is not None}
+    check_makino_parameters(number, given)
+    special = MAKINO_SPECIAL.get(number)
+    if special is not None:
+        return special.build(**{k: params[k] for k in given})
+    pts, m = MAKINO_BREAK_POINTS[number]
+    return universal_curve(pts, m=m)
+
+
+def check_makino_parameters(number: int, given: Collection[str], solvable: Collection[str] = ()) -> None:
+    """Makino's curve ``number`` exists and is given exactly its own parameters.
+
+    Parameters
+    ----------
+    number : int
+        Makino's classification number [-].
+    given : collection of str
+        The names of the parameters given.
+    solvable : collection of str
+        Parameters that may be left out, because the caller solves them (a motion program
+        solves curve 2's t4).
+
+    Raises
+    ------
+    InvalidParameterError
+        A parameter the curve does not take, one it needs and was not given, or a number
+        Makino does not define.
+
+    References
+    ----------
+    Makino (1977), table 2 and §5 (the special curves 1, 2, 4, 36 and their parameters).
+    """
     special = MAKINO_SPECIAL.get(number)
     allowed = set(special.parameters + special.optional) if special else set()
-    given = {k for k, v in params.items() if v is not None}
-    extra = given - allowed
+    extra = set(given) - allowed
     if extra:
         raise InvalidParameterError(
             f"Makino curve {number} takes no parameter {', '.join(sorted(extra))}"
             + (f"; it takes {', '.join(sorted(allowed))}." if allowed else ".")
         )
     if special is not None:
-        missing = set(special.parameters) - given
+        missing = set(special.parameters) - set(given) - set(solvable)
         if missing:
             raise InvalidParameterError(f"Makino curve {number} needs {', '.join(sorted(missing))}.")
-        return special.build(**{k: params[k] for k in given})
-    if number not in MAKINO_BREAK_POINTS:
+    elif number not in MAKINO_BREAK_POINTS:
         known = sorted([*MAKINO_SPECIAL, *MAKINO_BREAK_POINTS])
         raise InvalidParameterError(
             f"Makino curve number {number} is not one of {', '.join(map(str, known))}."
         )
-    pts, m = MAKINO_BREAK_POINTS[number]
-    return universal_curve(pts, m=m)
 
 
 def _check_t1_36(t1: float) -> float:

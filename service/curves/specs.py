@@ -3,7 +3,7 @@ answers."""
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, ClassVar, Literal
 
 from fastapi.openapi.models import Example
 from pydantic import BaseModel, Field, GetJsonSchemaHandler, model_validator
@@ -12,7 +12,7 @@ from pydantic_core import CoreSchema
 
 from camcore.curves import Characteristics
 from camcore.curves.kinds import POLYNOMIAL_NAMES
-from camcore.curves.makino import MAKINO_BREAK_POINTS, MAKINO_SPECIAL
+from camcore.curves.makino import MAKINO_BREAK_POINTS, MAKINO_SPECIAL, check_makino_parameters
 from camcore.curves.polynomial import check_choice
 from camcore.curves.universal import check_break_points
 from service.models import answer_model
@@ -97,6 +97,21 @@ class MakinoCurveSpec(CurveKindSpec):
     t1: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=0.5)] | None = Field(None, examples=[0.0625])
     t3: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=0.5)] | None = Field(None, examples=[0.25])
     direction: Direction = "rise"
+    #: parameters a curve may leave out, by number: none here (a motion program solves curve 2's t4)
+    solvable: ClassVar[dict[int, tuple[str, ...]]] = {}
+
+    @model_validator(mode="after")
+    def _check(self) -> MakinoCurveSpec:
+        # the rules makino_rules states, checked here (422) before any size limit (413) is:
+        # camcore's builder would check them only when the curve is built
+        given = [name for name in MAKINO_PARAMETERS if getattr(self, name) is not None]
+        check_makino_parameters(self.number, given, self.solvable.get(self.number, ()))
+        for name, bound in MAKINO_PARAMETER_BOUNDS.get(self.number, {}).items():
+            value = getattr(self, name)
+            if value is not None and value > bound["maximum"]:
+                raise ValueError(f"{MAKINO_SPECIAL[self.number].name} needs {name} ≤ {bound['maximum']:g}, "
+                                 f"got {value!r}")
+        return self
 
 
 class UniversalCurveSpec(CurveKindSpec):

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, ClassVar, Literal
 
 from fastapi.openapi.models import Example
 from pydantic import Field, create_model, model_validator
@@ -77,6 +77,7 @@ class ProgramMakinoSpec(MakinoCurveSpec):
 
     model_config = examples({"type": "makino", "number": 2}, {"type": "makino", "number": 1, "z": 0.9},
                             rules=makino_rules({n: (p[0],) for n, p in SOLVED_PARAMETERS.items()}))
+    solvable: ClassVar[dict[int, tuple[str, ...]]] = {n: (p[0],) for n, p in SOLVED_PARAMETERS.items()}
 
 
 class ProgramUniversalSpec(UniversalCurveSpec):

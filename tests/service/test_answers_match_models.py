@@ -24,13 +24,15 @@ from service.motions import routes as motions
 from service.plots import routes as plots
 from service.profiles import dynamics_routes as dynamics
 from service.profiles import routes as profiles
+from service.vibration import routes as vibration
 
 pytestmark = pytest.mark.anyio
 
 APP = create_app()
 DOC = APP.openapi()
 # the routers' own routes (this FastAPI lists included routers, not their routes, in app.routes)
-ROUTES = {(route.path, method.lower()): route for module in (curves, dynamics, health, indexers, motions, plots, profiles)
+ROUTES = {(route.path, method.lower()): route
+          for module in (curves, dynamics, health, indexers, motions, plots, profiles, vibration)
           for route in module.router.routes if isinstance(route, APIRoute) for method in route.methods}
 GETS = {
     "/v1/curves": {},

@@ -32,6 +32,9 @@ POSITION = {"indexer": INDEXER_EXAMPLE, "output_angle_deg": [11]}
 PROFILE = {"profile": KNIFE_EDGE_PROFILE_EXAMPLE, "samples": 37}
 PROGRAM = {"motion": FEED_CYCLE, "samples": 13}
 DYNAMICS = {**DYNAMICS_EXAMPLE, "samples": 13}
+SPECTRUM = {"curve": MS, "tau": [1, 2.5]}
+INDEXER_VIBRATION = {"indexer": INDEXER_EXAMPLE, "inertia_kgm2": 2.25, "stiffness_nm_rad": 2e5, "tolerance_arcsec": 10,
+                     "samples": 11}
 CSV_ACCEPT = {"Accept": "text/csv"}
 SWEEP = {"load": {"inertia_kgm2": 2}, "stops": [6], "indexing_angle_deg": [270], "curves": [{"type": "named", "name": "MS"}],
          "speed_rpm": [30, 60]}
@@ -80,6 +83,14 @@ CASES: list[tuple[str, str, str, dict[str, Any] | None, dict[str, str], str]] = 
     ("GET", "/v1/indexers/plot", "/v1/indexers/plot?stops=6&indexing_angle_deg=270&speed_rpm=60&samples=101&format=png",
      None, {}, "image/png"),
     ("GET", "/v1/profiles/plot", "/v1/profiles/plot?samples=101", None, {}, "image/svg+xml"),
+    ("POST", "/v1/curves/vibration", "/v1/curves/vibration", SPECTRUM, {}, "application/json"),
+    ("POST", "/v1/curves/vibration", "/v1/curves/vibration?format=csv", SPECTRUM, {}, "text/csv"),
+    ("POST", "/v1/curves/vibration", "/v1/curves/vibration", SPECTRUM, CSV_ACCEPT, "text/csv"),
+    ("POST", "/v1/curves/vibration.csv", "/v1/curves/vibration.csv", SPECTRUM, {}, "text/csv"),
+    ("POST", "/v1/indexers/vibration", "/v1/indexers/vibration", INDEXER_VIBRATION, CSV_ACCEPT, "text/csv"),
+    ("POST", "/v1/indexers/vibration.csv", "/v1/indexers/vibration.csv", INDEXER_VIBRATION, {}, "text/csv"),
+    ("GET", "/v1/curves/vibration/plot", "/v1/curves/vibration/plot?samples=101&curves=MS,cycloid", None, {},
+     "image/svg+xml"),
 ]
 if "/v1/curves/{name}/value" in DOC["paths"]:  # the spreadsheet cell (API contract: one bare number)
     CASES.append(("GET", "/v1/curves/{name}/value", "/v1/curves/MS/value?t=0.3&quantity=s", None, {}, "text/plain"))
@@ -124,7 +135,7 @@ def test_json_answers_keep_their_models_and_come_first() -> None:
 def test_file_twins_answer_only_their_file() -> None:
     twins = {path: ops["post"] if "post" in ops else ops["get"] for path, ops in DOC["paths"].items()
              if path.endswith((".csv", ".dxf", ".xyz"))}
-    assert len(twins) == 12, sorted(twins)
+    assert len(twins) == 14, sorted(twins)
     for path, op in twins.items():
         content = op["responses"]["200"]["content"]
         assert len(content) == 1, (path, list(content))

@@ -24,6 +24,7 @@ from service.indexers import sweep as sweep_schemas
 from service.motions import specs as motion_schemas
 from service.profiles import dynamics_specs as dynamics_schemas
 from service.profiles import specs as profile_schemas
+from service.vibration import specs as vibration_schemas
 from service.app import create_app
 
 pytestmark = pytest.mark.anyio
@@ -127,7 +128,8 @@ def request_side_schemas() -> set[str]:
 
 def model_classes() -> dict[str, type[BaseModel]]:
     out: dict[str, type[BaseModel]] = {}
-    for module in (schemas, dynamics_schemas, indexer_schemas, sweep_schemas, motion_schemas, profile_schemas):
+    for module in (schemas, dynamics_schemas, indexer_schemas, sweep_schemas, motion_schemas, profile_schemas,
+                   vibration_schemas):
         for value in vars(module).values():
             if isinstance(value, type) and issubclass(value, BaseModel):
                 out[value.__name__] = value

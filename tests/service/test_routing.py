@@ -19,6 +19,7 @@ from service.motions import routes as motions
 from service.plots import routes as plots
 from service.profiles import dynamics_routes as dynamics
 from service.profiles import routes as profiles
+from service.vibration import routes as vibration
 from service.routing import OrjsonRequest, OrjsonRoute
 
 
@@ -56,7 +57,7 @@ def test_malformed_bodies_raise_what_the_standard_library_raises(body: bytes) ->
 
 
 def test_every_api_operation_parses_with_orjson() -> None:
-    routes = [r for module in (curves, dynamics, health, indexers, motions, plots, profiles)
+    routes = [r for module in (curves, dynamics, health, indexers, motions, plots, profiles, vibration)
               for r in module.router.routes]
     operations = sum(len(ops) for ops in create_app().openapi()["paths"].values())
     # every operation of the document is a route of these routers (30 with the file twins,

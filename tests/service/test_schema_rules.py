@@ -175,6 +175,16 @@ def dynamics(follower: dict[str, Any] = ROLLER, lift: dict[str, float] | None = 
 
 TRANSLATING_LOAD = {"mass_kg": 0.5, "spring_rate_n_mm": 2, "preload_n": 30}
 OSCILLATING_LOAD = {"inertia_kgm2": 0.004, "spring_rate_nm_rad": 20, "preload_nm": 3}
+def vibration(**fields: Any) -> tuple[str, dict[str, Any]]:
+    return "/v1/curves/vibration", {"curve": MS, **fields}
+
+
+def indexer_vibration(**fields: Any) -> tuple[str, dict[str, Any]]:
+    return "/v1/indexers/vibration", {"indexer": INDEXER, "stiffness_nm_rad": 2e5, "tolerance_arcsec": 10, **fields}
+
+
+TAU_RANGE = {"start": 0.5, "stop": 5, "samples": 10}
+
 
 #: rule → (bodies that keep it, [(a body that breaks it, words of the app's 422)]).
 #: A model rule is named by its description in the document, a keyword by its JSON pointer.
@@ -220,6 +230,22 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
         [table(t=[0.5]), table(samples=11)], [(table(samples=11, t=[0.5]), "give either samples or t, not both")]),
     "/components/schemas/TableRequest/properties/t/anyOf/0/minItems": (
         [table(t=[0.5])], [(table(t=[]), "t must list at least one time")]),
+    # residual vibration
+    "give either tau (a list of values) or tau_range: one of them, not both": (
+        [vibration(tau=[1, 2]), vibration(tau_range=TAU_RANGE)],
+        [(vibration(), "give either tau (a list of values) or tau_range"),
+         (vibration(tau=[1], tau_range=TAU_RANGE), "give either tau (a list of values) or tau_range")]),
+    "/components/schemas/VibrationRequest/properties/tau/anyOf/0/minItems": (
+        [vibration(tau=[1])], [(vibration(tau=[]), "tau must list at least one value")]),
+    "give the load's inertia as inertia_kgm2 or as load: one of them, not both": (
+        [indexer_vibration(inertia_kgm2=2.25), indexer_vibration(load={"parts": [DISC]})],
+        [(indexer_vibration(), "give the load's inertia as inertia_kgm2 or as load"),
+         (indexer_vibration(inertia_kgm2=2.25, load={"parts": [DISC]}), "give the load's inertia as inertia_kgm2")]),
+    "the residual vibration takes an indexer with one curve (stops or swing_angle_deg, indexing_angle_deg, curve), "
+    "not a timing chart": (
+        [indexer_vibration(inertia_kgm2=2.25)],
+        [(("/v1/indexers/vibration", {"indexer": {"speed_rpm": 60, "timing": TIMING_CHART}, "inertia_kgm2": 2.25,
+                                      "stiffness_nm_rad": 2e5, "tolerance_arcsec": 10}), "not a timing chart")]),
     # indexer and load
     "give exactly one of stops (n) and swing_angle_deg (ψ, oscillating units)": (
         [indexer(), indexer(stops=None, swing_angle_deg=60), timing()],
@@ -494,6 +520,10 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     # follower dynamics: what the cam turns out to be (an impact where its lift's velocity jumps, a
     # roller that undercuts it), known once the lift is evaluated
     "the follower's acceleration is infinite there (an impact)", "The roller undercuts the cam",
+    # residual vibration: τ = th·fn from the indexer, the load and the stiffness together; a load's
+    # inertia summed over its parts; what the curve's acceleration turns out to be
+    "must lie within 0.001 ≤ τ ≤ 1000: change stiffness_nm_rad", "the load's inertia must be greater than 0",
+    "the curve's acceleration is not", "the curve's displacement jumps",
     # a result beyond the range of float64
     "produced a non-finite number",
 )))

@@ -1,0 +1,1 @@
+"""Residual vibration: the spectrum of a curve, an indexer's load, the spectrum chart."""
