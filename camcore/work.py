@@ -261,3 +261,76 @@ def motion_work(laws: Sequence[LawCost | None], solved: int, rows: int, segments
         work += WorkEstimate((WorkTerm(segments_field, f"solving {solved} parameters", solved * MOTION_SOLVE_S),))
     slowest = max((law.sample_s for law in built), default=5e-8)
     return work + per_item_work(rows, MOTION_ROW_S + slowest, rows_field, f"{rows} motion rows")
+
+
+#: a fitted path (camcore.toolpath): elements per moving segment ≈ FIT_ELEMENTS_PER_STROKE ·
+#: (stroke/tolerance)^(1/3) (a biarc's error grows as the cube of its length: measured 28 per
+#: 20 mm rise at 1e-3 mm, 58 at 1e-4, 6-7 at 0.1, for 120° and for 10° segments alike), plus
+#: FIT_ELEMENTS_PER_SEGMENT at each segment's ends and FIT_ELEMENTS_FIXED per path
+FIT_ELEMENTS_PER_STROKE = 1.2
+FIT_ELEMENTS_PER_SEGMENT = 4
+FIT_ELEMENTS_FIXED = 8
+#: one fitted element: the greedy search's trials and the measurement both ways (measured
+#: 1.5-2 ms an element with 4 to 36 closed-form segments, ~900 points of the exact curve
+#: evaluated per element); ×1.5
+FIT_ELEMENT_S = 1.5 * 2e-3
+FIT_POINTS_PER_ELEMENT = 1000
+
+
+def fit_elements_estimate(strokes_mm: Sequence[float], segments: int, tolerance_mm: float) -> int:
+    """How many lines and arcs a path fitted within a tolerance will have, before fitting.
+
+    Parameters
+    ----------
+    strokes_mm : sequence of float
+        The stroke of each moving segment of the lift (a swing as the arc the follower
+        point runs) [mm].
+    segments : int
+        Segments of the lift, dwells included [-].
+    tolerance_mm : float
+        The fitting tolerance [mm].
+
+    Returns
+    -------
+    int
+        The estimated element count of one path [-].
+
+    References
+    ----------
+    Meek and Walton (1992): a biarc's deviation grows as the cube of its length; the
+    measurements beside :data:`FIT_ELEMENTS_PER_STROKE`.
+    """
+    per_stroke = sum((abs(s) / tolerance_mm) ** (1.0 / 3.0) for s in strokes_mm)
+    return int(FIT_ELEMENTS_FIXED + FIT_ELEMENTS_PER_SEGMENT * segments + FIT_ELEMENTS_PER_STROKE * per_stroke)
+
+
+def fit_work(laws: Sequence[LawCost | None], elements: int, paths: int, segments_field: Field,
+             tolerance_field: Field) -> WorkEstimate:
+    """Fitting paths of lines and arcs to a cam (camcore.toolpath), the curves built apart.
+
+    Parameters
+    ----------
+    laws : sequence of LawCost or None
+        Each segment's law (None: a dwell or the default cycloid).
+    elements : int
+        Estimated elements of all paths together (:func:`fit_elements_estimate`) [-].
+    paths : int
+        Paths fitted (walls), each with its checks of the whole turn [-].
+    segments_field, tolerance_field : tuple
+        The request fields of the segments and of the tolerance.
+
+    Returns
+    -------
+    WorkEstimate
+        The checks of each path, and the elements [s].
+
+    References
+    ----------
+    camcore.toolpath.fit; the measurements beside :data:`FIT_ELEMENT_S`.
+    """
+    slowest = max((law.sample_s for law in laws if law is not None), default=CLOSED_FORM_COST.sample_s)
+    checks = checks_work(laws, segments_field).seconds
+    return WorkEstimate((
+        WorkTerm(segments_field, f"the curvature checks of {paths} paths", paths * checks),
+        WorkTerm(tolerance_field, f"fitting about {elements} lines and arcs",
+                 elements * (FIT_ELEMENT_S + 1.5 * FIT_POINTS_PER_ELEMENT * (PROFILE_SAMPLE_S + slowest)))))

@@ -21,7 +21,9 @@ from pydantic import BaseModel
 from service.curves import specs as schemas
 from service.indexers import specs as indexer_schemas
 from service.motions import specs as motion_schemas
+from service.profiles import solids as solid_schemas
 from service.profiles import specs as profile_schemas
+from service.profiles import toolpath as toolpath_schemas
 from service.app import create_app
 
 pytestmark = pytest.mark.anyio
@@ -125,7 +127,7 @@ def request_side_schemas() -> set[str]:
 
 def model_classes() -> dict[str, type[BaseModel]]:
     out: dict[str, type[BaseModel]] = {}
-    for module in (schemas, indexer_schemas, motion_schemas, profile_schemas):
+    for module in (schemas, indexer_schemas, motion_schemas, profile_schemas, solid_schemas, toolpath_schemas):
         for value in vars(module).values():
             if isinstance(value, type) and issubclass(value, BaseModel):
                 out[value.__name__] = value
