@@ -189,7 +189,7 @@ def compute_toolpath(spec: CamSpec, tool_radius_mm: float, tolerance_mm: float, 
             f"the tool (radius {tool_radius_mm!r} mm) is wider than the roller's track (roller radius {rr!r} mm): it "
             "would cut into the opposite wall; give tool_radius_mm ≤ roller_radius_mm.", field=("tool_radius_mm",))
     budget = Budget(max_elements)
-    paths = tuple(_path(spec, name, w, eps, tool_radius_mm, tolerance_mm, allow_gouge, budget)
+    paths = tuple(_path(spec, name, w, eps, tool_radius_mm, tolerance_mm, allow_gouge, budget, side == "groove")
                   for name, w, eps in chosen)
     return Toolpath(float(tool_radius_mm), float(tolerance_mm), side, paths)
 
@@ -229,7 +229,7 @@ def fit_surface(spec: CamSpec, tolerance_mm: float, max_elements: int = 100_000)
 
 
 def _path(spec: CamSpec, wall: str, w: float, eps: float, rt: float, tol: float, allow_gouge: bool,
-          budget: Budget) -> CutterPath:
+          budget: Budget, groove: bool = False) -> CutterPath:
     corner_rad = [math.radians(c) for c in corners(spec)]
     turns = {c: corner_turn(spec, c) for c in corner_rad}
     _check_wall(spec, wall, w, corner_rad, turns)
@@ -262,7 +262,9 @@ def _path(spec: CamSpec, wall: str, w: float, eps: float, rt: float, tol: float,
     if clockwise != (eps > 0):  # climb milling: clockwise round an outside, counter-clockwise inside
         elements = [e.reversed() for e in reversed(elements)]
         clockwise = not clockwise
-    lead = rt if eps > 0 or w == 0.0 else abs(w) - rt
+    # the lead-in's free room: a tool radius beside a plate cam or a pocket's wall; in a
+    # roller's track (a groove, or its outer wall) the way to the track's centre line
+    lead = abs(w) - rt if (groove or eps < 0) and w != 0.0 else rt
     return CutterPath(wall, "outside" if eps > 0 else "inside", d, tuple(elements), clockwise, deviation,
                       radius, None if at_rad is None else math.degrees(at_rad), bool(gouges), lead)
 

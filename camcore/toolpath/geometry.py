@@ -243,7 +243,7 @@ def corner_arc(centre: FloatArray, radius_mm: float, normal0: FloatArray, normal
         The corner point (x, y) [mm].
     radius_mm : float
         Signed offset: the arc lies at |r| from the corner, on the side of the normals
-        when r > 0 [mm].
+        when r > 0, on the other side when r < 0 [mm].
     normal0, normal1 : ndarray
         Unit normals before and after the corner [-].
     theta_rad : float
@@ -264,8 +264,8 @@ def corner_arc(centre: FloatArray, radius_mm: float, normal0: FloatArray, normal
         return None
     start = centre + radius_mm * normal0
     end = centre + radius_mm * normal1
-    # the point runs the way the normal turns when r > 0, and against it when r < 0
-    ccw = (turn > 0) == (radius_mm > 0)
+    # centre + r·N turns with N whatever the sign of r (a rotation commutes with the scaling)
+    ccw = turn > 0
     return Element((float(start[0]), float(start[1])), (float(end[0]), float(end[1])),
                    (float(centre[0]), float(centre[1])), ccw, theta_rad, theta_rad)
 
