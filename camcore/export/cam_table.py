@@ -1,10 +1,10 @@
 """A motion program as a servo drive's cam table: CSV of master position at a fixed step,
 slave position, velocity and acceleration.
 
-Electronic cams (Siemens SINAMICS/SIMOTION cam tables, Beckhoff TwinCAT NC cam tables,
-Rockwell MAM/MAPC cam profiles, Omron and Bosch Rexroth cam editors) import a table of
-master/slave points as plain CSV: one header row, then one row per master position, ``.`` as
-decimal mark. The columns here:
+Electronic-cam editors of servo drives and motion controllers take a cam as a table of
+master/slave points; the plainest form they import is CSV: one header row, then one row per
+master position, ``.`` as decimal mark, the columns mapped in the import dialog (no vendor's
+own file layout is claimed here). The columns:
 
 ``master_deg``
     master (drive shaft) position, from 0 to the period at a fixed step, both ends [deg];
