@@ -264,16 +264,19 @@ def motion_work(laws: Sequence[LawCost | None], solved: int, rows: int, segments
 
 
 #: a fitted path (camcore.toolpath): elements per moving segment ≈ FIT_ELEMENTS_PER_STROKE ·
-#: (stroke/tolerance)^(1/3) (a biarc's error grows as the cube of its length: measured 28 per
-#: 20 mm rise at 1e-3 mm, 58 at 1e-4, 6-7 at 0.1, for 120° and for 10° segments alike), plus
-#: FIT_ELEMENTS_PER_SEGMENT at each segment's ends and FIT_ELEMENTS_FIXED per path
-FIT_ELEMENTS_PER_STROKE = 1.2
+#: (stroke/tolerance)^(1/3) (a biarc's error grows as the cube of its length: measured 25-34
+#: elements a path for two 20 mm strokes at 1e-3 mm and 1e-4 mm → ×2, 0.8 per stroke-root for
+#: 5 mm strokes over 90° and 30°), plus FIT_ELEMENTS_PER_SEGMENT at each segment's ends and
+#: FIT_ELEMENTS_FIXED per path; the factor is set a little above what was measured
+FIT_ELEMENTS_PER_STROKE = 0.9
 FIT_ELEMENTS_PER_SEGMENT = 4
 FIT_ELEMENTS_FIXED = 8
-#: one fitted element: the greedy search's trials and the measurement both ways (measured
-#: 1.5-2 ms an element with 4 to 36 closed-form segments, ~900 points of the exact curve
-#: evaluated per element); ×1.5
-FIT_ELEMENT_S = 1.5 * 2e-3
+#: one path: its curvature and cusp scans and the measurement passes (measured 30-40 ms, one
+#: computation at a time); one element: the greedy search's trials and its measurement both
+#: ways (0.5-0.6 ms with closed-form laws, 4 to 12 segments: ~900 points of the exact curve
+#: evaluated per element, FIT_POINTS_PER_ELEMENT counts them for a slower law); ×1.5
+FIT_PATH_S = 1.5 * 0.04
+FIT_ELEMENT_S = 1.5 * 6e-4
 FIT_POINTS_PER_ELEMENT = 1000
 
 
@@ -331,6 +334,7 @@ def fit_work(laws: Sequence[LawCost | None], elements: int, paths: int, segments
     slowest = max((law.sample_s for law in laws if law is not None), default=CLOSED_FORM_COST.sample_s)
     checks = checks_work(laws, segments_field).seconds
     return WorkEstimate((
-        WorkTerm(segments_field, f"the curvature checks of {paths} paths", paths * checks),
+        WorkTerm(segments_field, f"the curvature checks of {paths} paths", paths * (checks + FIT_PATH_S)),
         WorkTerm(tolerance_field, f"fitting about {elements} lines and arcs",
-                 elements * (FIT_ELEMENT_S + 1.5 * FIT_POINTS_PER_ELEMENT * (PROFILE_SAMPLE_S + slowest)))))
+                 elements * (FIT_ELEMENT_S + 1.5 * FIT_POINTS_PER_ELEMENT
+                             * max(0.0, slowest - CLOSED_FORM_COST.sample_s)))))
