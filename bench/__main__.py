@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import itertools
 import json
 import os
 import platform
@@ -31,6 +32,7 @@ import orjson
 
 import camcore
 from camcore.indexer import Indexer, Load, size
+from camcore.indexer.sweep import size_sweep
 
 from . import scalar_port
 
@@ -40,7 +42,7 @@ TABLE_BODY = {"curve": {"type": "named", "name": "MS"}, "samples": 101}
 
 FIGURES = [
     "table_vs_sin_floor", "scalar_port_vs_table", "inverse_vs_table", "json_vs_orjson_floor",
-    "http_table_vs_ceiling", "http_p99_ms", "workers_scaling", "sizing_sweep",
+    "http_table_vs_ceiling", "http_p99_ms", "workers_scaling", "sizing_sweep", "sweep_vs_single_sizings",
 ]
 
 
@@ -221,6 +223,28 @@ def sizing_sweep(n: int, chunks: int) -> dict[str, Any]:
             "target": "report", "met": None}
 
 
+def sweep_vs_single_sizings(repeats: int) -> dict[str, Any]:
+    """36 designs (2 stops × 2 angles × 3 curves × 3 speeds) in one size_sweep ÷ 36 size() calls."""
+    names = ["MS", "MCV50", "TR"]
+    curves = [camcore.named_curve(name) for name in names]
+    load = Load(inertia_kgm2=2.25, friction_torque_nm=9.81, work_torque_nm=4.0)
+    designs = list(itertools.product([4, 6], [120.0, 270.0], curves, [30.0, 60.0, 90.0]))
+    indexers = [Indexer(stops=n, indexing_angle_deg=theta, speed_rpm=speed, curve=curve)
+                for n, theta, curve, speed in designs]
+
+    def singles() -> None:
+        for indexer in indexers:
+            size(indexer, load)
+
+    def sweep() -> None:
+        size_sweep(load, [4, 6], [120.0, 270.0], curves, names, speed_rpm=[30.0, 60.0, 90.0])
+
+    ratios, tb, ts = paired_ratios(singles, sweep, repeats, invert=True)
+    return figure(ratios, ">= 5", singles_ms=round(tb * 1e3, 3), sweep_ms=round(ts * 1e3, 3),
+                  what="36 single sizings (camcore.indexer.size: each also builds its torque table and RMS, which "
+                       "the sweep leaves out) ÷ one size_sweep of the same 36 designs (identical figures)")
+
+
 # --------------------------------------------------------------------------- HTTP figures
 WRK_MISSING = "wrk not installed: apt-get install wrk"
 PINNING = ("2 cores: the server runs under `taskset -c 0` with 1 worker and `taskset -c 0,1` with 2 "
@@ -360,6 +384,7 @@ def run(smoke: bool, only: set[str] | None) -> dict[str, Any]:
         "inverse_vs_table": lambda: inverse_vs_table(sizes["inverse"], r),
         "json_vs_orjson_floor": lambda: json_vs_orjson_floor(sizes["json"], r),
         "sizing_sweep": lambda: sizing_sweep(sizes["sizing"], 1 if smoke else 5),
+        "sweep_vs_single_sizings": lambda: sweep_vs_single_sizings(1 if smoke else 15),
     }
     out: dict[str, Any] = {"mode": "smoke" if smoke else "full", "machine": machine_info()}
     figures: dict[str, Any] = {}

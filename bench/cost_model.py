@@ -104,6 +104,9 @@ CASES = [
     Case("base circle, both limits", "POST", "/v1/profiles/base-circle",
          lambda n: {"profile": cam(n), "max_pressure_angle_deg": 30, "min_radius_of_curvature_mm": 5},
          "segments", 200),
+    Case("follower dynamics", "POST", "/v1/profiles/dynamics",
+         lambda n: {"profile": cam(n), "speed_rpm": 300, "mass_kg": 0.5, "spring_rate_n_mm": 2, "preload_n": 30,
+                    "safety_margin_n": 5}, "segments", 360),
     # manufacturing: the size is the tolerance, 10^(−n/10) mm (n = 40: 1e-4 mm, the smallest allowed)
     Case("toolpath, groove, G-code", "POST", "/v1/profiles/toolpath.nc",
          lambda n: {"profile": cam(4), "tool_radius_mm": 6, "side": "groove", "tolerance_mm": 10 ** (-n / 10)},

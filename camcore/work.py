@@ -263,6 +263,41 @@ def motion_work(laws: Sequence[LawCost | None], solved: int, rows: int, segments
     return work + per_item_work(rows, MOTION_ROW_S + slowest, rows_field, f"{rows} motion rows")
 
 
+#: follower dynamics (camcore.profile.dynamics): one grid over the turn, one golden-section search
+#: for every extreme at once, and the RMS quadrature; measured 0.6-2.1 times the checks estimate
+#: (:func:`checks_work`) of the same cam (4-360 cycloid or degree-20 Bezier segments), ×1.2
+DYNAMICS_PER_CHECKS = 2.5
+
+
+def dynamics_work(laws: Sequence[LawCost | None], samples: int, segments_field: Field,
+                  samples_field: Field) -> WorkEstimate:
+    """The dynamics of a follower on a cam of these segments, with its table (the curves built apart).
+
+    Parameters
+    ----------
+    laws : sequence of LawCost or None
+        Each segment's law (None: a dwell or the default cycloid).
+    samples : int
+        Rows of the table [-].
+    segments_field, samples_field : tuple
+        The request fields of the segments and of the row count.
+
+    Returns
+    -------
+    WorkEstimate
+        The extremes over the turn and the rows [s].
+
+    References
+    ----------
+    camcore.profile.dynamics; the measurements beside :data:`DYNAMICS_PER_CHECKS`.
+    """
+    extremes = DYNAMICS_PER_CHECKS * checks_work(laws, segments_field).seconds
+    slowest = max((law.sample_s for law in laws if law is not None), default=CLOSED_FORM_COST.sample_s)
+    return WorkEstimate((WorkTerm(segments_field, f"the follower dynamics of {max(len(laws), 1)} segments",
+                                  extremes),)) + per_item_work(samples, PROFILE_SAMPLE_S + slowest, samples_field,
+                                                               f"{samples} dynamics rows")
+
+
 #: a fitted path (camcore.toolpath): elements per moving segment ≈ FIT_ELEMENTS_PER_STROKE ·
 #: (stroke/tolerance)^(1/3) (a biarc's error grows as the cube of its length: measured 25-34
 #: elements a path for two 20 mm strokes at 1e-3 mm and 1e-4 mm → ×2, 0.8 per stroke-root for

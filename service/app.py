@@ -21,6 +21,7 @@ from service.motions.service import MotionService
 from service.offline_docs import install_offline_docs
 from service.openapi_examples import restore_examples
 from service.plots import routes as plots
+from service.profiles import dynamics_routes as dynamics
 from service.profiles import routes as profiles
 from service.profiles.service import ProfileService
 from service.security import install_security
@@ -57,12 +58,12 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.settings = settings
     app.state.work_gate = WorkGate(settings)
     app.state.curve_service = CurveService(settings)
-    app.state.indexer_service = IndexerService(app.state.curve_service)
-    app.state.profile_service = ProfileService(app.state.curve_service)
     app.state.motion_service = MotionService(app.state.curve_service)
+    app.state.indexer_service = IndexerService(app.state.curve_service, app.state.motion_service)
+    app.state.profile_service = ProfileService(app.state.curve_service, app.state.motion_service)
     install_error_handlers(app)
     app.example_routers = (health_router, curves.router, indexers.router, profiles.router, motions.router,
-                           plots.router)
+                           plots.router, dynamics.router)
     for router in app.example_routers:
         app.include_router(router)
     install_offline_docs(app)  # before security: it publishes the asset paths left open

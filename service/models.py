@@ -9,6 +9,10 @@ produces. A field is required unless the result class gives it a default (it may
 
 from __future__ import annotations
 
+import dataclasses
+import functools
+import operator
+import typing
 from typing import Any
 
 from pydantic import BaseModel, Field, create_model
@@ -30,7 +34,19 @@ def answer_model(result_class: type, name: str, doc: str | None = None) -> type[
     """
     fields: dict[str, Any] = {}
     for field_name, hint, description, required in answer_fields(result_class):
+        hint = _nested(hint, name)
         fields[field_name] = (hint, Field(description=description) if required else Field(None, description=description))
     model = create_model(name, __doc__=doc or result_class.__doc__, **fields)
     model.__module__ = __name__
     return model
+
+
+def _nested(hint: Any, outer: str) -> Any:
+    """A nested result class becomes its own answer model (named after the outer one's
+    field type: ``TorqueTable`` in ``SizingAnswer`` is ``TorqueTableAnswer``); ``X | None`` stays optional."""
+    if dataclasses.is_dataclass(hint) and isinstance(hint, type):
+        return answer_model(hint, f"{hint.__name__}Answer")
+    args = typing.get_args(hint)
+    if args and any(dataclasses.is_dataclass(a) for a in args):
+        return functools.reduce(operator.or_, (_nested(a, outer) for a in args))
+    return hint

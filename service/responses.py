@@ -59,10 +59,19 @@ def check_finite(columns: Mapping[str, Any]) -> None:
 
 
 def _csv_cells(col: Any) -> list[bytes]:
-    """One column's cells: orjson's shortest round-trip text of each float, NaN as empty."""
+    """One column's cells: orjson's shortest round-trip text of each float, NaN as empty; a
+    column of text (a name per row) as it is, quoted where CSV needs it (RFC 4180)."""
+    if np.asarray(col).dtype.kind in "US":
+        return [_csv_text(str(cell)) for cell in np.asarray(col).reshape(-1)]
     arr = np.ascontiguousarray(np.asarray(col, dtype=np.float64).reshape(-1))
     text = orjson.dumps(arr, option=orjson.OPT_SERIALIZE_NUMPY)[1:-1]
     return [b"" if c == b"null" else c for c in text.split(b",")] if text else []
+
+
+def _csv_text(cell: str) -> bytes:
+    if any(c in cell for c in ',"\r\n'):
+        cell = '"' + cell.replace('"', '""') + '"'
+    return cell.encode()
 
 
 def iter_csv(columns: Mapping[str, Any]) -> Iterator[bytes]:

@@ -51,6 +51,7 @@ class Settings(BaseSettings):
     max_toolpath_elements: int = Field(20_000, ge=1, description="lines and arcs of a toolpath or a solid's contour; "
                                                                  "more: 413")
     max_stl_triangles: int = Field(1_000_000, ge=1, description="facets of an STL solid; more: 413")
+    max_sweep_combinations: int = Field(10000, ge=1, description="designs of one sizing sweep; more: 413")
 
     # work (camcore.work estimates it before it runs; service.admission admits it)
     max_work_s: float = Field(1.0, gt=0, le=3600, description="budget: a request estimated to need more is refused (413)")

@@ -162,9 +162,11 @@ def all_of(*schemas: dict[str, Any]) -> dict[str, Any]:
     return {"allOf": list(schemas)}
 
 
-def exactly_one(first: str, second: str) -> dict[str, Any]:
-    """One of the two fields is given, not both."""
-    return {"if": given(first), "then": absent(second), "else": given(second)}
+def exactly_one(first: str, *rest: str) -> dict[str, Any]:
+    """Exactly one of the fields is given."""
+    if len(rest) == 1:
+        return {"if": given(first), "then": absent(*rest), "else": given(*rest)}
+    return {"if": given(first), "then": absent(*rest), "else": exactly_one(*rest)}
 
 
 def together(first: str, second: str) -> dict[str, Any]:

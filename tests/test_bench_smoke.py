@@ -14,7 +14,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 FIGURES = {
     "table_vs_sin_floor", "scalar_port_vs_table", "inverse_vs_table", "json_vs_orjson_floor",
-    "http_table_vs_ceiling", "http_p99_ms", "workers_scaling", "sizing_sweep",
+    "http_table_vs_ceiling", "http_p99_ms", "workers_scaling", "sizing_sweep", "sweep_vs_single_sizings",
 }
 
 

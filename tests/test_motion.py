@@ -11,10 +11,12 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from camcore.errors import CamError, InvalidParameterError
-from camcore.motion import SOLVE, Law, MotionLift, MotionSegment, MotionSpec, resolve_motion
-from camcore.profile import CamSpec, Follower, Segment, compute_profile
+from camcore.motion import SOLVE, Law, MotionSegment, MotionSpec, resolve_motion
+from camcore.profile import CamSpec, Follower, MotionLift, Segment, compute_profile, make_cam
 from camcore.profile.lift import LiftSchedule
 
 POLY = Law("polynomial", {})
@@ -154,6 +156,45 @@ def test_half_matched_polynomial_keeps_its_given_start() -> None:
     assert program.joins[1].continuity == "C2" and program.segments[1].solved["degree"] == 5
 
 
+@st.composite
+def matched_programs(draw: st.DrawFn) -> MotionSpec:
+    """Dwells and matched polynomials (quintic or septic) at random spans and positions,
+    ending where they start; a named law may anchor one segment."""
+    n = draw(st.integers(2, 8))
+    weights = draw(st.lists(st.floats(0.05, 1.0), min_size=n, max_size=n))
+    spans = [360.0 * w / sum(weights) for w in weights]
+    spans[-1] = 360.0 - sum(spans[:-1])
+    kinds = draw(st.lists(st.sampled_from(["poly", "poly", "septic", "dwell", "cycloid"]), min_size=n, max_size=n))
+    if "poly" not in kinds and "septic" not in kinds:
+        kinds[0] = "poly"
+    last_move = max(i for i, kind in enumerate(kinds) if kind != "dwell")
+    segments = []
+    for i, (span, kind) in enumerate(zip(spans, kinds)):
+        to = 0.0 if i == last_move else draw(st.floats(-50, 50).map(lambda v: round(v, 3)))
+        if kind == "dwell":
+            segments.append(dwell(span))
+        elif kind == "cycloid":
+            segments.append(move(span, to=to))
+        else:
+            segments.append(move(span, POLY, to=to, match="jerk" if kind == "septic" else "acceleration"))
+    return MotionSpec(segments)
+
+
+@settings(max_examples=200, deadline=None, derandomize=True, database=None)
+@given(spec=matched_programs())
+def test_random_programs_of_matched_polynomials_are_c2_and_close(spec: MotionSpec) -> None:
+    # a dwell or the cycloid starts and ends at rest (v = a = 0); every matched polynomial meets
+    # its neighbours' s, v, a, so every join is at least C2 (the wrap-around included), unless
+    # the program is refused with a sentence (a cycloid asked to move by 0)
+    try:
+        program = resolve_motion(spec)
+    except CamError as err:
+        assert str(err).startswith("segments[") and "a stroke of 0 with the law 'cycloid'" in str(err), str(err)
+        return
+    assert all(join.continuity in ("C2", "C3") for join in program.joins), program.joins
+    assert program.advance == 0.0 and program.derivatives(np.array([360.0]), 0)[0][0] == pytest.approx(0.0, abs=1e-9)
+
+
 # ----------------------------------------------------------------------------- a program as a cam's lift
 def test_a_closed_program_is_a_cam_lift_like_the_segment_schedule() -> None:
     program = resolve_motion(MotionSpec([move(120, to=20), dwell(60), move(120, to=0), dwell(60)]))
@@ -172,6 +213,40 @@ def test_a_closed_program_is_a_cam_lift_like_the_segment_schedule() -> None:
     assert np.allclose(ours_p.pressure_angle_deg, theirs_p.pressure_angle_deg, atol=1e-10)
     with pytest.raises(InvalidParameterError, match="does not close"):
         MotionLift(resolve_motion(MotionSpec([move(180, to=20), move(180, to=10)])))
+
+
+def test_a_program_of_half_a_turn_makes_a_two_lobe_cam() -> None:
+    # master angle = drive angle: a 180° program repeats twice per cam turn (γ = 1), and with
+    # γ = 0.5 (the cam turns once per two drive turns) a 720° program is one cam turn; the
+    # chain rule dᵏh/dθᵏ = (180/(π·γ))ᵏ·dᵏs/dxᵏ is checked against the 360° schedule
+    half = resolve_motion(MotionSpec([move(60, to=20), dwell(30), move(60, to=0), dwell(30)], period_deg=180))
+    lift = MotionLift(half)
+    theta = np.radians(np.arange(0.25, 180, 0.5))
+    for first, second in zip(lift.derivatives(theta, 2), lift.derivatives(theta + np.pi, 2)):
+        # θ + π rounds: the angles differ by ~1e-16 rad, the lift by that times its slope
+        assert np.allclose(first, second, rtol=1e-12, atol=1e-12)
+    assert len(lift.breaks_rad) == 2 * len(half.breaks_deg)
+    slow = resolve_motion(MotionSpec([move(240, to=20), dwell(120), move(240, to=0), dwell(120)], period_deg=720))
+    schedule = LiftSchedule([Segment("rise", 120, 20), Segment("dwell", 60), Segment("return", 120, 20),
+                             Segment("dwell", 60)])
+    for ours, theirs in zip(MotionLift(slow, rotation_ratio=0.5).derivatives(theta * 2, 3),
+                            schedule.derivatives(theta * 2, 3)):
+        assert np.allclose(ours, theirs, rtol=1e-12, atol=1e-12)
+    with pytest.raises(InvalidParameterError, match="whole number"):
+        MotionLift(resolve_motion(MotionSpec([move(150, to=20), move(150, to=0)], period_deg=300)))
+
+
+def test_make_cam_takes_a_program_in_the_follower_unit() -> None:
+    program = resolve_motion(MotionSpec([move(120, to=20), dwell(60), move(120, to=0), dwell(60)]))
+    cam = make_cam(Follower("roller", roller_radius_mm=10), 40, motion=program)
+    assert isinstance(cam.lift, MotionLift)
+    swing = Follower("roller", "oscillating", roller_radius_mm=5, arm_length_mm=50, pivot_distance_mm=70)
+    with pytest.raises(InvalidParameterError, match="follower is in 'deg'") as err:
+        make_cam(swing, 30, motion=program)
+    assert err.value.field == ("motion", "unit")
+    with pytest.raises(InvalidParameterError, match="one of them"):
+        make_cam(Follower("roller", roller_radius_mm=10), 40, motion=program,
+                 segments=[Segment("rise", 180, 20), Segment("return", 180, 20)])
 
 
 # ----------------------------------------------------------------------------- errors

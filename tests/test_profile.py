@@ -403,7 +403,7 @@ def test_curve_lift_with_rotation_ratio():
     # drive turn (down to 5e-324, where 360/γ overflows) are refused before the periods are laid out.
     assert len(CurveLift(PeriodicCurve(), rotation_ratio=1 / 500).breaks_rad) > 1000
     for ratio in (1 / 500.5, 5e-324):
-        with pytest.raises(InvalidParameterError, match="more than 1000 spans"):
+        with pytest.raises(InvalidParameterError, match="more than 1000 periods"):
             CurveLift(PeriodicCurve(), rotation_ratio=ratio)
 
 
@@ -538,7 +538,7 @@ def test_validation_errors():
     with pytest.raises(GeometryError, match="cannot be assembled"):
         make_cam(Follower("roller", "oscillating", roller_radius_mm=5, arm_length_mm=20, pivot_distance_mm=100),
                  20.0, segments=swing)
-    with pytest.raises(InvalidParameterError, match="either as segments or as one lift curve"):
+    with pytest.raises(InvalidParameterError, match="as segments, as one lift curve or as a motion program"):
         make_cam(Follower("knife-edge"), 20.0)
 
 

@@ -16,7 +16,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from .._solvers import illinois_roots
 from ..results import Extremum, doc
@@ -192,3 +192,89 @@ def characteristics(curve: PiecewiseCurve) -> Characteristics:
         s_max=s_max,
         s_min=s_min,
     )
+
+
+def power_balance_peaks(curve: PiecewiseCurve, c1: ArrayLike, c2: ArrayLike
+                        ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Exact max and min over [T0, T7] of f(T) = c1·V·A + c2·V, for many (c1, c2) at once.
+
+    Parameters
+    ----------
+    curve : PiecewiseCurve
+        The curve.
+    c1, c2 : array_like
+        One pair of coefficients per row (same shape, 1-D) [N·m] (or any unit: f takes it).
+
+    Returns
+    -------
+    (ndarray, ndarray, ndarray, ndarray)
+        Per row: the largest f [f's unit] and its T [-], the smallest f and its T (ties: the earliest T).
+
+    Notes
+    -----
+    Candidates are each piece's ends (one-sided) and every root of
+    f′ = c1·(J·V + A²) + c2·A, bracketed on one grid of the curve (evaluated once for all
+    rows) and refined together by the Illinois method, as :func:`critical_points` does for
+    one function.
+
+    References
+    ----------
+    Power balance of a lossless cam drive, T_in = (dθout/dθin)·T_out; Makino (1977),
+    characteristic values taken section by section; Dowell and Jarratt (1971).
+    """
+    k1 = np.atleast_1d(np.asarray(c1, dtype=np.float64))
+    k2 = np.atleast_1d(np.asarray(c2, dtype=np.float64))
+    rows = k1.size
+    starts = curve.piece_starts
+    ends = np.append(starts[1:], curve.t_end)
+    n = curve.n_pieces
+    per_piece = int(np.clip(2**18 // max(n, 1), 17, _BRACKET_SAMPLES))
+    grid = starts[:, None] + (ends - starts)[:, None] * np.linspace(0.0, 1.0, per_piece)[None, :]
+    kk = np.repeat(np.arange(n, dtype=np.intp), per_piece)
+    _, v, a, j = (d.reshape(n, per_piece) for d in curve.eval_pieces(grid.reshape(-1), kk, 3))
+    inertia_slope, friction_slope = j * v + a * a, a
+    cand_t = [np.tile(np.concatenate([starts, ends]), rows)]
+    cand_k = [np.tile(np.concatenate([np.arange(n), np.arange(n)]), rows)]
+    cand_r = [np.repeat(np.arange(rows), 2 * n)]
+    # rows in blocks: the grid of one block of rows stays below a few MB
+    block = max(1, 2**19 // grid.size)
+    for first in range(0, rows, block):
+        r = np.arange(first, min(first + block, rows))
+        g = k1[r, None, None] * inertia_slope[None] + k2[r, None, None] * friction_slope[None]
+        sign = np.sign(g)
+        r_idx, k_idx, i_idx = np.nonzero(sign[:, :, :-1] * sign[:, :, 1:] < 0)
+        if r_idx.size:
+            lo, hi = grid[k_idx, i_idx].copy(), grid[k_idx, i_idx + 1].copy()
+            f_lo, f_hi = g[r_idx, k_idx, i_idx].copy(), g[r_idx, k_idx, i_idx + 1].copy()
+            row_of = r[r_idx]
+
+            def slope(t: FloatArray, label: NDArray[np.intp]) -> FloatArray:
+                row, piece = np.divmod(label, n)
+                _, vv, aa, jj = curve.eval_pieces(t, piece, 3)
+                return np.asarray(k1[row] * (jj * vv + aa * aa) + k2[row] * aa, dtype=np.float64)
+
+            illinois_roots(slope, lo, hi, f_lo, f_hi, row_of * n + k_idx)
+            cand_t.append(0.5 * (lo + hi))
+            cand_k.append(k_idx)
+            cand_r.append(row_of)
+        zr, zk, zi = np.nonzero(g == 0.0)
+        if zr.size:
+            cand_t.append(grid[zk, zi])
+            cand_k.append(zk)
+            cand_r.append(r[zr])
+    t_all, k_all, r_all = np.concatenate(cand_t), np.concatenate(cand_k), np.concatenate(cand_r)
+    _, v_c, a_c = curve.eval_pieces(t_all, k_all, 2)
+    f_all = k1[r_all] * v_c * a_c + k2[r_all] * v_c
+    order = np.lexsort((t_all, r_all))  # by row, then T: the first extreme is the earliest
+    t_s, f_s, r_s = t_all[order], f_all[order], r_all[order]
+    bounds = np.searchsorted(r_s, np.arange(rows + 1))
+    top = np.maximum.reduceat(f_s, bounds[:-1])
+    bottom = np.minimum.reduceat(f_s, bounds[:-1])
+    position = np.arange(f_s.size)
+    first_top = np.minimum.reduceat(np.where(f_s == top[r_s], position, f_s.size), bounds[:-1])
+    first_bottom = np.minimum.reduceat(np.where(f_s == bottom[r_s], position, f_s.size), bounds[:-1])
+    # a row whose f is not finite everywhere (inputs past float range) has no extreme to find:
+    # its first candidate stands in (the answer refuses the non-finite values)
+    first_top = np.where(first_top < f_s.size, first_top, bounds[:-1])
+    first_bottom = np.where(first_bottom < f_s.size, first_bottom, bounds[:-1])
+    return top, t_s[first_top], bottom, t_s[first_bottom]

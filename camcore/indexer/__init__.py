@@ -1,12 +1,29 @@
-"""Cam indexers: kinematics over the input angle (:mod:`.kinematics`), the load
-(:mod:`.load`), torque and power sizing (:mod:`.sizing`); results in :mod:`.results`."""
+"""Cam indexers: kinematics over the input angle (:mod:`.kinematics`), indexers driven by a
+timing chart (:mod:`.timing`), the load (:mod:`.load`), torque and power sizing
+(:mod:`.sizing`); results in :mod:`.results`."""
 
-from .kinematics import Indexer, accuracy_mm
+from .drive import Motor, TorqueTable
+from .kinematics import Indexer
 from .load import G, Load, LoadPart
 from .results import IndexerMotion, IndexerPosition, MotionSummary, MotionTable, Sizing
-from .sizing import size
+from .sizing import accuracy_mm, size
+from .timing import TimedIndexer, check_timing, check_timing_frame
 
 __all__ = [
-    "G", "Indexer", "IndexerMotion", "IndexerPosition", "Load", "LoadPart", "MotionSummary",
-    "MotionTable", "Sizing", "accuracy_mm", "size",
+    "G",
+    "Indexer",
+    "IndexerMotion",
+    "IndexerPosition",
+    "Load",
+    "LoadPart",
+    "MotionSummary",
+    "MotionTable",
+    "Motor",
+    "Sizing",
+    "TimedIndexer",
+    "TorqueTable",
+    "accuracy_mm",
+    "check_timing",
+    "check_timing_frame",
+    "size",
 ]

@@ -44,82 +44,56 @@ from .._checks import count, finite, non_negative, positive
 from ..curves.catalog import named_curve
 from ..curves.curve import Curve
 from ..errors import InvalidParameterError, StrokeRangeError
+from .checks import check_alternatives, check_curve_moves, check_total_indexing_angle
 from .results import IndexerMotion, IndexerPosition, MotionSummary, MotionTable
 
 
-def accuracy_mm(arc_seconds: ArrayLike, radius_mm: ArrayLike) -> Any:
-    """Angular indexing accuracy converted to a length at a radius.
+def indexing_time_s(indexing_angle_deg: ArrayLike, speed_rpm: ArrayLike) -> Any:
+    """th = (θh/360)·(60/N), the time of one index.
 
     Parameters
     ----------
-    arc_seconds : float or array_like
-        Angular error θ (may be signed, ±) [arcsec].
-    radius_mm : float or array_like
-        Radius r at which the error is measured (≥ 0) [mm].
+    indexing_angle_deg : array_like
+        θh [deg].
+    speed_rpm : array_like
+        N [rpm].
 
     Returns
     -------
     float or ndarray
-        Arc length x = 2π·r·θ/(360·60·60) [mm]; a float for scalar input.
+        th [s].
 
     References
     ----------
-    INDEXMAN technical guide, 计算分度精度 (last table): x = 2πr·θ/(360×60×60)
-    = 0.00000485·r·θ; e.g. 90″ at 300 mm → 0.131 mm.
+    INDEXMAN technical guide, section 5 worked example (th = (θh/360)·(60/N)).
     """
-    theta = np.asarray(arc_seconds, dtype=np.float64)
-    r = np.asarray(radius_mm, dtype=np.float64)
-    if not (np.all(np.isfinite(theta)) and np.all(np.isfinite(r))):
-        raise InvalidParameterError("arc_seconds and radius_mm must be finite numbers.")
-    if np.any(r < 0):
-        raise InvalidParameterError("radius_mm must be 0 or more.")
-    x = 2.0 * math.pi * r * theta / (360.0 * 3600.0)
-    return float(x) if x.ndim == 0 else x
+    return np.asarray(indexing_angle_deg, dtype=np.float64) / 360.0 * 60.0 / np.asarray(speed_rpm, dtype=np.float64)
 
 
-def check_alternatives(stops: Any, swing_angle_deg: Any, speed_rpm: Any, cycle_time_s: Any) -> None:
-    """Exactly one of stops and swing angle, and exactly one of speed and cycle time.
+def index_scales(h_rad: ArrayLike, th_s: ArrayLike, d_t: float, d_s: float) -> tuple[Any, Any, Any]:
+    """Factors from a curve's V, A, J to ω, α, jerk of an index.
 
     Parameters
     ----------
-    stops : int or None
-        n, stops per output turn [-].
-    swing_angle_deg : float or None
-        ψ, swing of an oscillating unit [deg].
-    speed_rpm : float or None
-        N, input speed [rpm].
-    cycle_time_s : float or None
-        t0, unit cycle time [s].
+    h_rad : array_like
+        h, the output's travel per index [rad].
+    th_s : array_like
+        th, the indexing time [s].
+    d_t, d_s : float
+        T7 − T0 and S(T7) − S(T0) of the curve [-].
+
+    Returns
+    -------
+    (float or ndarray, …)
+        (h/th)·ΔT/ΔS [rad/s], (h/th²)·ΔT²/ΔS [rad/s²], (h/th³)·ΔT³/ΔS [rad/s³].
 
     References
     ----------
-    INDEXMAN technical guide, sections 2 and 3 (n = 360/ψ; t0 = 60/(N·z)).
+    INDEXMAN technical guide, section 5: v = (h/th)·V, a = (h/th²)·A, j = (h/th³)·J.
     """
-    if (stops is None) == (swing_angle_deg is None):
-        raise InvalidParameterError("give exactly one of stops (n) and swing_angle_deg (ψ, oscillating units).")
-    if (speed_rpm is None) == (cycle_time_s is None):
-        raise InvalidParameterError("give exactly one of speed_rpm (N) and cycle_time_s (t0 = 60/(N·z)).")
-
-
-def check_total_indexing_angle(indexing_angle_deg: float, dwells: int) -> None:
-    """θt = θh·z must not exceed one input turn.
-
-    Parameters
-    ----------
-    indexing_angle_deg : float
-        θh, input angle per index [deg].
-    dwells : int
-        z, indexes per input turn [-].
-
-    References
-    ----------
-    INDEXMAN technical guide, section 2 (θt = θh·z).
-    """
-    if indexing_angle_deg * dwells > 360 * (1 + 1e-12):
-        raise InvalidParameterError(
-            f"the total indexing angle θt = θh·z must not exceed 360°, but indexing_angle_deg × dwells = "
-            f"{indexing_angle_deg!r} × {dwells} = {indexing_angle_deg * dwells!r}."
-        )
+    h = np.asarray(h_rad, dtype=np.float64)
+    th = np.asarray(th_s, dtype=np.float64)
+    return h / th * d_t / d_s, h / th**2 * d_t**2 / d_s, h / th**3 * d_t**3 / d_s
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -195,13 +169,7 @@ class Indexer:
         else:
             put(self, "cycle_time_s", positive("cycle_time_s", self.cycle_time_s))
         put(self, "input_stop_time_s", non_negative("input_stop_time_s", self.input_stop_time_s))
-        c = self.curve
-        d_t = c.t_end - c.t_start
-        d_s = c.s_end - c.s_start
-        if not (math.isfinite(d_s) and d_s != 0 and d_t > 0):
-            raise InvalidParameterError(
-                "the curve must move (S at T7 different from S at T0) to drive an index."
-            )
+        check_curve_moves(self.curve)
 
     # ------------------------------------------------------------ derived values
     @property
@@ -243,7 +211,7 @@ class Indexer:
     @property
     def indexing_time_s(self) -> float:
         """th = (θh/360)·(60/N) [s]."""
-        return self.indexing_angle_deg / 360.0 * 60.0 / self.rpm
+        return float(indexing_time_s(self.indexing_angle_deg, self.rpm))
 
     @property
     def dwell_time_s(self) -> float:
@@ -271,9 +239,8 @@ class Indexer:
     def scales(self) -> tuple[float, float, float]:
         """Factors from the curve's V, A, J to ω [rad/s], α [rad/s²], jerk [rad/s³]."""
         d_t, d_s = self.spans
-        h = self.displacement_rad
-        th = self.indexing_time_s
-        return h / th * d_t / d_s, h / th**2 * d_t**2 / d_s, h / th**3 * d_t**3 / d_s
+        kv, ka, kj = index_scales(self.displacement_rad, self.indexing_time_s, d_t, d_s)
+        return float(kv), float(ka), float(kj)
 
     def angle_of_t(self, t: Any) -> Any:
         """Input angle θ = θh·(T − T0)/ΔT at the curve's times T [deg]."""

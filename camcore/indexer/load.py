@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from .._checks import count, finite, non_negative
+from .._checks import count, finite, non_negative, positive
 from ..errors import InvalidParameterError
 
 #: standard gravity [m/s²] (CGPM 1901), used for friction torque μ·m·g·R.
@@ -125,6 +125,12 @@ class Load:
         fc ≥ 1. Default 1.5.
     efficiency : float
         η of the drive to the input shaft, 0 < η ≤ 1. Default 1.
+    gear_ratio : float
+        g, output-shaft turns per dial turn (> 0) [-]: the parts, inertia, friction and work
+        torque above are the dial's, reflected to the output shaft through a lossless gear or
+        belt as I/g² and T/g. Default 1 (the dial is on the output shaft).
+    dwell_torque_nm : float
+        External torque on the dial held while it stands still (≥ 0) [N·m]. Default 0.
     """
 
     inertia_kgm2: float = 0.0
@@ -135,6 +141,8 @@ class Load:
     work_torque_nm: float = 0.0
     service_factor: float = 1.5
     efficiency: float = 1.0
+    gear_ratio: float = 1.0
+    dwell_torque_nm: float = 0.0
 
     def __post_init__(self) -> None:
         put = object.__setattr__
@@ -172,6 +180,8 @@ class Load:
         if not 0 < eta <= 1:
             raise InvalidParameterError(f"efficiency must satisfy 0 < η ≤ 1, got {eta!r}.")
         put(self, "efficiency", eta)
+        put(self, "gear_ratio", positive("gear_ratio", self.gear_ratio))
+        put(self, "dwell_torque_nm", non_negative("dwell_torque_nm", self.dwell_torque_nm))
 
     @property
     def mass_kg(self) -> float:
@@ -192,3 +202,18 @@ class Load:
             radius_m = float(self.friction_radius_mm or 0.0) * 1e-3
             return self.friction_coefficient * self.mass_kg * G * radius_m
         return 0.0
+
+    @property
+    def output_inertia_kgm2(self) -> float:
+        """The dial's inertia at the output shaft, I/g² [kg·m²]."""
+        return self.total_inertia_kgm2 / self.gear_ratio**2
+
+    @property
+    def output_friction_torque_nm(self) -> float:
+        """The dial's friction torque at the output shaft, Tf/g [N·m]."""
+        return self.total_friction_torque_nm / self.gear_ratio
+
+    @property
+    def output_work_torque_nm(self) -> float:
+        """The work torque at the output shaft, Tw/g [N·m]."""
+        return float(self.work_torque_nm) / self.gear_ratio

@@ -13,6 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..results import doc, table_columns
+from .drive import TorqueTable
 
 FloatArray = NDArray[np.float64]
 
@@ -145,4 +146,33 @@ class Sizing:
     input_power_catalog_kw: float
     speed_rpm: float
     accuracy_mm: float | None = None
+    # drives: the dial behind a gear, the whole machine cycle, the motor
+    gear_ratio: float = field(default=1.0, metadata=doc("g, output-shaft turns per dial turn"))
+    dial_inertia_kgm2: float = field(default=0.0, metadata=doc(
+        "the dial's own inertia (inertia_kgm2 is it at the output shaft, /g²) [kg·m²]"))
+    dial_displacement_deg: float = field(default=0.0, metadata=doc("the dial's travel per index, h/g [deg]"))
+    dial_omega_max_rad_s: float = field(default=0.0, metadata=doc("the dial's peak |ω| [rad/s]"))
+    dial_alpha_max_rad_s2: float = field(default=0.0, metadata=doc("the dial's peak |α| [rad/s²]"))
+    internal_friction_torque_nm: float = field(default=0.0, metadata=doc(
+        "the unit's own friction on the input shaft while it turns, as given [N·m]"))
+    dwell_output_torque_nm: float = field(default=0.0, metadata=doc(
+        "the torque the output holds during the dwell (dwell_torque_nm/g) [N·m]"))
+    rms_input_torque_nm: float = field(default=0.0, metadata=doc(
+        "RMS of the input torque over the machine cycle (index, dwell, input stop; fc applied to the load, "
+        "internal friction added; lossless as input_torque_nm) [N·m]"))
+    machine_cycle_time_s: float = field(default=0.0, metadata=doc(
+        "the cycle of the torque table and the RMS: index, dwell and input stop (both strokes of an "
+        "oscillating unit; one input turn of a timing chart) [s]"))
+    input_torque_table: TorqueTable | None = field(default=None, metadata=doc("the input torque over the machine cycle"))
+    motor_speed_rpm: float | None = field(default=None, metadata=doc("with motor: N·i [rpm]"))
+    motor_peak_torque_nm: float | None = field(default=None, metadata=doc(
+        "with motor: peak |torque| at the motor, every efficiency applied [N·m]"))
+    motor_rms_torque_nm: float | None = field(default=None, metadata=doc(
+        "with motor: RMS torque at the motor over the machine cycle, every efficiency applied [N·m]"))
+    inertia_ratio: float | None = field(default=None, metadata=doc(
+        "with motor: the load's largest inertia seen at the motor, I·(dθout/dθin)²max/i², over the rotor's [-]"))
+    peak_utilisation: float | None = field(default=None, metadata=doc("with motor: motor peak torque / its peak rating"))
+    rms_utilisation: float | None = field(default=None, metadata=doc("with motor: motor RMS torque / its rated torque"))
+    motor_ok: bool | None = field(default=None, metadata=doc("with motor: peak, RMS and speed within its ratings"))
+    motor_reason: str | None = field(default=None, metadata=doc("with motor: why not, when not ok"))
 

@@ -3,8 +3,8 @@
 Map: :mod:`.spec` (the program as plain data and its rules), :mod:`.laws` (a law in real
 units; what a program may leave out of a law), :mod:`.polynomials` (polynomials matched to
 their neighbours, chains of them), :mod:`.resolve` (solving strokes, T4 and matched laws in
-order), :mod:`.program` (evaluation, joins, characteristic values; a program as a cam's
-lift), :mod:`.results` (what a program answers).
+order), :mod:`.program` (evaluation, joins, characteristic values), :mod:`.results` (what a
+program answers). A closed program is a cam's lift: :class:`camcore.profile.MotionLift`.
 
 References
 ----------
@@ -13,7 +13,7 @@ References
 """
 
 from .laws import SOLVED_PARAMETERS, PlacedLaw, law_role
-from .program import CONTINUITY_TOLERANCE, MotionLift, MotionProgram
+from .program import CONTINUITY_TOLERANCE, MotionProgram
 from .resolve import resolve_motion
 from .results import Join, MotionCharacteristics, MotionTable, ResolvedSegment
 from .spec import (
@@ -37,7 +37,6 @@ __all__ = [
     "Join",
     "Law",
     "MotionCharacteristics",
-    "MotionLift",
     "MotionProgram",
     "MotionSegment",
     "MotionSpec",

@@ -205,35 +205,3 @@ class MotionProgram:
             else v_min
         values = {name: pair[0] for name, pair in best.items()} | {f"{n}_at_deg": pair[1] for n, pair in best.items()}
         return MotionCharacteristics(v_peak=abs(peak[0]), v_peak_at_deg=peak[1], **values)
-
-
-class MotionLift:
-    """A closed program as a cam's lift (the ``Lift`` protocol of :mod:`camcore.profile.lift`).
-
-    One period of master angle is one cam turn: x = θ·period/2π, so dᵏs/dθᵏ =
-    (period/2π)ᵏ·dᵏs/dxᵏ with x in degrees of the period's own scale (θ in radians).
-    """
-
-    def __init__(self, program: MotionProgram):
-        scale = max(abs(program.start), abs(program.start + program.advance), program.scales[0])
-        if abs(program.advance) > CONTINUITY_TOLERANCE * scale:
-            raise InvalidParameterError(
-                f"the motion program does not close: it ends at {program.start + program.advance!r} {program.unit} "
-                f"but starts at {program.start!r} {program.unit}, so it cannot be the lift of a cam.",
-                field=("segments",))
-        self.program = program
-        self.unit = program.unit
-        self._deg_per_rad = program.period_deg / (2.0 * math.pi)
-
-    @property
-    def breaks_rad(self) -> FloatArray:
-        """Cam angles in [0, 2π) where a derivative of the lift may jump [rad]."""
-        return np.asarray(self.program.breaks_deg / self._deg_per_rad, dtype=np.float64)
-
-    def derivatives(self, theta: ArrayLike, order: int = 2) -> list[FloatArray]:
-        """[h, dh/dθ, d²h/dθ², …][: order + 1] at cam angles θ [rad] (periodic over 2π), in the
-        program's unit per radian^k."""
-        th = np.asarray(theta, dtype=np.float64)
-        x = np.mod(th, 2.0 * math.pi) * self._deg_per_rad
-        vals = self.program.derivatives(x, order)
-        return [v * self._deg_per_rad**k for k, v in enumerate(vals)]

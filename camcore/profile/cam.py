@@ -66,9 +66,10 @@ from typing import Any, Literal
 import numpy as np
 
 from ..curves.base import FloatArray
-from ..errors import GeometryError, InvalidParameterError
+from ..errors import CamError, GeometryError, InvalidParameterError
+from ..motion.program import MotionProgram
 from .followers import Follower, FollowerModel, Kinematics, check_follower, follower_model
-from .lift import TWO_PI, CurveLift, LiftSchedule, Segment
+from .lift import TWO_PI, CurveLift, LiftSchedule, MotionLift, Segment
 
 
 @dataclass(frozen=True)
@@ -102,10 +103,11 @@ def make_cam(
     *,
     segments: Sequence[Segment] | None = None,
     lift_curve: Any = None,
+    motion: MotionProgram | None = None,
     rotation: Literal["ccw", "cw"] = "ccw",
     rotation_ratio: float = 1.0,
 ) -> CamSpec:
-    """Build and validate a :class:`CamSpec` from segments or one user lift curve.
+    """Build and validate a :class:`CamSpec` from segments, one user lift curve or a motion program.
 
     Parameters
     ----------
@@ -117,11 +119,14 @@ def make_cam(
         Rise / dwell / return segments over one cam turn (their angles add to 360°).
     lift_curve : Curve, optional
         One user lift curve over the drive angle (a Bezier or points curve with a scale).
-        Give exactly one of ``segments`` and ``lift_curve``.
+    motion : MotionProgram, optional
+        A closed motion program over the drive angle (:func:`camcore.motion.resolve_motion`),
+        in mm for a translating follower, in degrees of swing for an oscillating one.
+        Give exactly one of ``segments``, ``lift_curve`` and ``motion``.
     rotation : {"ccw", "cw"}
         Sense of the cam's rotation.
     rotation_ratio : float
-        γ, cam turns per drive turn (user lift curves only) [-].
+        γ, cam turns per drive turn (user lift curves and motion programs) [-].
 
     Returns
     -------
@@ -131,7 +136,7 @@ def make_cam(
     Raises
     ------
     InvalidParameterError, GeometryError
-        As :func:`validate`, or both or neither of ``segments`` and ``lift_curve``.
+        As :func:`validate`; not exactly one lift; a motion program in the other unit.
 
     References
     ----------
@@ -139,12 +144,32 @@ def make_cam(
     θcam = γ·θdr); Makino (1977), subroutine CURVE (INIT = 2: the return strokes).
     """
     unit = "deg" if follower.motion == "oscillating" else "mm"
-    if (segments is None) == (lift_curve is None):
-        raise InvalidParameterError("Give the lift either as segments or as one lift curve, not both.")
-    lift = LiftSchedule(segments, unit=unit) if segments is not None else CurveLift(lift_curve, rotation_ratio, unit)
+    if sum(given is not None for given in (segments, lift_curve, motion)) != 1:
+        raise InvalidParameterError("Give the lift as segments, as one lift curve or as a motion program (one of them).")
+    lift: Any
+    if segments is not None:
+        lift = LiftSchedule(segments, unit=unit)
+    elif lift_curve is not None:
+        lift = CurveLift(lift_curve, rotation_ratio, unit)
+    else:
+        assert motion is not None
+        lift = _motion_lift(motion, unit, follower.motion, rotation_ratio)
     spec = CamSpec(follower, base_radius_mm, lift, rotation)
     validate(spec)
     return spec
+
+
+def _motion_lift(motion: MotionProgram, unit: str, follower_motion: str, rotation_ratio: float) -> MotionLift:
+    """The program as the lift, its errors located in ``motion`` (the argument)."""
+    try:
+        if motion.unit != unit:
+            raise InvalidParameterError(
+                f"the motion program is in {motion.unit!r}, but the lift of a {follower_motion} follower is in "
+                f"{unit!r} ({'degrees of swing' if unit == 'deg' else 'mm of travel'}).", field=("unit",))
+        return MotionLift(motion, rotation_ratio)
+    except CamError as exc:
+        exc.field = ("motion", *exc.field)
+        raise
 
 
 def validate(spec: CamSpec) -> None:

@@ -1,5 +1,5 @@
-"""The lift over one cam turn: rise / dwell / return segments, or one user curve over the
-drive angle, with the rotation ratio between drive shaft and cam shaft.
+"""The lift over one cam turn: rise / dwell / return segments, one user curve over the
+drive angle, or a motion program, with the rotation ratio between drive shaft and cam shaft.
 
 References
 ----------
@@ -23,6 +23,7 @@ from ..curves.catalog import named_curve
 from ..curves.curve import Curve
 from ..curves.reverse import ReturnCurve
 from ..errors import GeometryError, InvalidParameterError
+from ..motion.program import CONTINUITY_TOLERANCE, MotionProgram
 
 TWO_PI = 2.0 * math.pi
 #: angles (degrees) of a lift schedule must add to 360 within this tolerance
@@ -172,7 +173,57 @@ class LiftSchedule:
         return [o.reshape(th.shape) for o in out]
 
 
-MAX_PERIODS_PER_TURN = 1000  # lift periods on one cam turn; each one is a copy of the curve's breaks
+MAX_PERIODS_PER_TURN = 1000  # lift periods on one cam turn; each one is a copy of the lift's breaks
+
+
+def periods_per_turn(span_deg: float, rotation_ratio: float, what: str) -> int:
+    """How many periods of a lift over the drive angle make one cam turn.
+
+    Parameters
+    ----------
+    span_deg : float
+        The lift's period over the drive angle [deg].
+    rotation_ratio : float
+        γ, cam turns per drive turn [-]; one cam turn is 360/γ degrees of drive angle.
+    what : str
+        What repeats, for the error sentences ("the lift curve").
+
+    Returns
+    -------
+    int
+        (360/γ)/span, a whole number from 1 to :data:`MAX_PERIODS_PER_TURN` [-].
+
+    Raises
+    ------
+    InvalidParameterError
+        γ not positive, or one cam turn not a whole number of periods (the contour would not close).
+
+    References
+    ----------
+    Bezier valve-cam notes, eq. (12): θcam = γ·θdr.
+    """
+    if not (math.isfinite(rotation_ratio) and rotation_ratio > 0):
+        raise InvalidParameterError("rotation_ratio must be a positive number (cam turns per drive turn).")
+    if not (math.isfinite(span_deg) and span_deg > 0):
+        raise InvalidParameterError("The lift must span a positive drive angle.")
+    drive_per_turn = 360.0 / rotation_ratio
+    periods = drive_per_turn / span_deg
+    if not periods <= MAX_PERIODS_PER_TURN:  # also inf, from a vanishing rotation_ratio
+        raise InvalidParameterError(
+            f"One cam turn is {drive_per_turn!r}° of drive angle (360°/rotation_ratio), more than "
+            f"{MAX_PERIODS_PER_TURN} periods of {what} ({span_deg!r}°): raise rotation_ratio.")
+    if abs(periods - round(periods)) > 1e-9 * max(1.0, periods) or round(periods) < 1:
+        raise InvalidParameterError(
+            f"One cam turn is {drive_per_turn!r}° of drive angle (360°/rotation_ratio); {what} repeats every "
+            f"{span_deg!r}°, which does not fit a whole number of times, so the cam contour would not close.")
+    return round(periods)
+
+
+def _cam_breaks(drive_deg: ArrayLike, span_deg: float, periods: int, rotation_ratio: float) -> FloatArray:
+    """Cam angles in [0, 2π) of break points given over one period of drive angle [rad]."""
+    drive = np.asarray(drive_deg, dtype=np.float64)
+    cam = np.concatenate([np.radians((drive + k * span_deg) * rotation_ratio) for k in range(periods)])
+    return np.unique(np.mod(cam, TWO_PI))
 
 
 class CurveLift:
@@ -191,21 +242,8 @@ class CurveLift:
         scale = getattr(curve, "scale", None)
         if scale is None:
             raise InvalidParameterError("A user lift curve needs a scale (drive angle and lift units).")
-        if not (math.isfinite(rotation_ratio) and rotation_ratio > 0):
-            raise InvalidParameterError("rotation_ratio must be a positive number (cam turns per drive turn).")
         span = float(scale.theta_span)
-        if not (math.isfinite(span) and span > 0):
-            raise InvalidParameterError("The lift curve must span a positive drive angle.")
-        drive_per_turn = 360.0 / rotation_ratio
-        periods = drive_per_turn / span
-        if not periods <= MAX_PERIODS_PER_TURN:  # also inf, from a vanishing rotation_ratio
-            raise InvalidParameterError(
-                f"One cam turn is {drive_per_turn!r}° of drive angle (360°/rotation_ratio), more than "
-                f"{MAX_PERIODS_PER_TURN} spans of the lift curve ({span!r}°): raise rotation_ratio.")
-        if abs(periods - round(periods)) > 1e-9 * max(1.0, periods) or round(periods) < 1:
-            raise InvalidParameterError(
-                f"One cam turn is {drive_per_turn!r}° of drive angle (360°/rotation_ratio); the lift curve spans "
-                f"{span!r}°, which does not fit a whole number of times, so the cam contour would not close.")
+        periods = periods_per_turn(span, rotation_ratio, "the lift curve")
         tol = 1e-9 * max(1.0, abs(scale.h_span))
         if abs(scale.h_span * (curve.s_end - curve.s_start)) > tol:
             raise InvalidParameterError(
@@ -216,10 +254,7 @@ class CurveLift:
         self.unit = unit
         t_breaks = np.asarray(curve.break_points, dtype=np.float64)
         tau = (t_breaks - curve.t_start) / (curve.t_end - curve.t_start)
-        drive = scale.theta_start + span * tau
-        reps = round(periods)
-        cam = np.concatenate([np.radians((drive + k * span) * rotation_ratio) for k in range(reps)])
-        self._breaks = np.unique(np.mod(cam, TWO_PI))
+        self._breaks = _cam_breaks(scale.theta_start + span * tau, span, periods, rotation_ratio)
 
     @property
     def breaks_rad(self) -> FloatArray:
@@ -238,3 +273,39 @@ class CurveLift:
         for o in range(1, order + 1):
             out.append(sc.h_span * rate**o * vals[o])
         return out
+
+
+class MotionLift:
+    """A closed motion program as a cam's lift; its master angle is the drive angle.
+
+    The cam angle is θcam = γ·x (x the master angle, γ = ``rotation_ratio``), so one cam
+    turn is 360/γ degrees of master angle and must hold a whole number of the program's
+    periods (one period per turn when γ = 1 and period_deg = 360). By the chain rule
+    dᵏs/dθᵏ = (180/(π·γ))ᵏ·dᵏs/dxᵏ, θ in radians and x in degrees.
+    """
+
+    def __init__(self, program: MotionProgram, rotation_ratio: float = 1.0):
+        scale = max(abs(program.start), abs(program.start + program.advance), program.scales[0])
+        if abs(program.advance) > CONTINUITY_TOLERANCE * scale:
+            raise InvalidParameterError(
+                f"the motion program does not close: it ends at {program.start + program.advance!r} {program.unit} "
+                f"but starts at {program.start!r} {program.unit}, so it cannot be the lift of a cam.",
+                field=("segments",))
+        periods = periods_per_turn(program.period_deg, rotation_ratio, "the motion program")
+        self.program = program
+        self.unit = program.unit
+        self.rotation_ratio = float(rotation_ratio)
+        self._breaks = _cam_breaks(program.breaks_deg, program.period_deg, periods, rotation_ratio)
+
+    @property
+    def breaks_rad(self) -> FloatArray:
+        """Cam angles in [0, 2π) where a derivative of the lift may jump [rad]."""
+        return self._breaks
+
+    def derivatives(self, theta: ArrayLike, order: int = 2) -> list[FloatArray]:
+        """[h, dh/dθ, d²h/dθ², …][: order + 1] at cam angles θ [rad] (periodic over 2π), in the
+        program's unit per radian^k."""
+        deg_per_rad = 180.0 / (math.pi * self.rotation_ratio)
+        x = np.mod(np.asarray(theta, dtype=np.float64) * deg_per_rad, self.program.period_deg)
+        vals = self.program.derivatives(x, order)
+        return [v * deg_per_rad**k for k, v in enumerate(vals)]

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Literal
 
 from fastapi import APIRouter, Body, Depends, Query, Request
 from starlette.responses import Response
@@ -23,6 +23,9 @@ from service.indexers.specs import (
     SizingAnswer,
     SizingRequest,
 )
+from service.indexers.sweep import SWEEP_EXAMPLES, SizingSweepAnswer, SizingSweepRequest, sweep, sweep_work
+from service.plots.charts import IMAGE_RESPONSE, MEDIA_TYPES
+from service.plots.sweep_chart import sweep_chart
 from service.responses import JSONBody, check_finite, json_response, table_response, wants_csv
 from service.routing import OrjsonRoute
 
@@ -84,9 +87,27 @@ async def _position(request: Request, gate: WorkGate, service: IndexerService, b
 async def indexer_sizing(body: Annotated[SizingRequest, Body(openapi_examples=SIZING_EXAMPLES)],
                          request: Request, service: Service, gate: Gate) -> Response:
     """Inertia, friction and work torque, output and input torque, input power."""
-    result = await gate.run(request, service.sizing_work(body.indexer), service.sizing, body.indexer, body.load)
+    work = service.sizing_work(body.indexer, body.table_samples, body.motor is not None)
+    result = await gate.run(request, work, service.sizing, body.indexer, body.load, body.motor, body.table_samples)
     check_finite({k: v for k, v in result.items() if isinstance(v, float)})
     return JSONBody(result)
+
+
+@router.post("/sizing/sweep", operation_id="sweepIndexerSizing", response_model=SizingSweepAnswer,
+             responses={**ERRORS, 200: {"content": {**CSV["content"], **IMAGE_RESPONSE["content"]}}})
+async def indexer_sizing_sweep(body: Annotated[SizingSweepRequest, Body(openapi_examples=SWEEP_EXAMPLES)],
+                               request: Request, service: Service, gate: Gate,
+                               format: Annotated[Literal["png", "svg"] | None, Query(
+                                   description="a chart of input torque over speed per curve instead of the table")]
+                               = None) -> Response:
+    """Every combination of stops × indexing angles × curves × speeds sized at once (CSV on request,
+    or ``?format=png|svg``: input torque over speed per curve, a panel per stops and angle)."""
+    work = sweep_work(service.curves, body, chart=format is not None)
+    if format is not None:  # drawn in the gate's thread, like the computation
+        chart = await gate.run(request, work, lambda: sweep_chart(sweep(service, body), format))
+        return Response(chart, media_type=MEDIA_TYPES[format])
+    columns = await gate.run(request, work, sweep, service, body)
+    return table_response(columns, wants_csv(request), filename="sizing-sweep.csv")
 
 
 @router.get("/accuracy", operation_id="convertIndexingAccuracy", response_model=AccuracyAnswer, responses=ERRORS)

@@ -7,12 +7,13 @@ from typing import Any, Literal
 import numpy as np
 
 import camcore
-from camcore.errors import NonMonotoneError
+from camcore.errors import InvalidParameterError, NonMonotoneError
 from camcore.results import as_dict
-from camcore.work import WorkEstimate, curve_work, per_item_work
+from camcore.work import WorkEstimate, curve_work, motion_work, per_item_work
 from service.curves.service import CurveService
 from service.errors import within
-from service.indexers.specs import IndexerSpec, LoadSpec
+from service.indexers.specs import IndexerSpec, LoadSpec, MotorSpec
+from service.motions.service import MotionService
 from service.responses import encode_cost
 
 #: columns of the motion table and of a position answer (angles, times, ω, α, jerk…)
@@ -20,17 +21,33 @@ MOTION_COLUMNS = 8
 #: one row of the motion table or one position beyond the curve's own evaluation: angle
 #: and time scaling (measured 0.5 µs per row at 2e5 rows), ×1.5
 ROW_S = 1.5 * 5e-7
+#: one RMS integral over one law (each piece scanned for the torque's zeros, 32-point Gauss-Legendre
+#: on each stretch): measured 1.1-2.4 ms for MS, MCV50, a 9-piece universal curve; ×1.5
+RMS_INTEGRAL_S = 1.5 * 2.4e-3
+#: where a timing chart is in the request
+TIMING = ("indexer", "timing")
 
 
 class IndexerService:
     """Indexer motion, position lookup and sizing, using the curve cache of ``curves``."""
 
-    def __init__(self, curves: CurveService):
+    def __init__(self, curves: CurveService, motions: MotionService):
         self.curves = curves
+        self.motions = motions
 
     # ------------------------------------------------------------------ work estimates
+    def _timing_work(self, spec: IndexerSpec, rows: int, rows_field: tuple[str, ...]) -> WorkEstimate:
+        """A timing chart resolved and evaluated at ``rows`` input angles (the chart's laws
+        and its solved parameters, camcore.work.motion_work)."""
+        assert spec.timing is not None
+        laws, solved = self.motions.laws(spec.timing, at=TIMING)
+        return motion_work(laws, solved, rows, (*TIMING, "segments"), rows_field)
+
     def motion_work(self, spec: IndexerSpec, samples: int, csv: bool) -> WorkEstimate:
         self.curves.check_limit("table samples", samples, self.curves.settings.max_table_samples, ("samples",))
+        if spec.timing is not None:
+            return self._timing_work(spec, samples, ("samples",)) + per_item_work(
+                samples, ROW_S + encode_cost(MOTION_COLUMNS, csv), ("samples",), f"{samples} table rows")
         law = self.curves.law(spec.curve, at=("indexer", "curve"))
         return curve_work(law, ("indexer", "curve")) + per_item_work(
             samples, law.sample_s + ROW_S + encode_cost(MOTION_COLUMNS, csv), ("samples",), f"{samples} table rows")
@@ -39,17 +56,40 @@ class IndexerService:
                       csv: bool) -> WorkEstimate:
         self.curves.check_limit("number of output angles", angles, self.curves.settings.max_inverse_points,
                                 ("output_angle_deg",))
+        if spec.timing is not None:  # each position: a segment found, one inverse solved (≤ 2 law evaluations)
+            return self._timing_work(spec, 3 * angles, ("output_angle_deg",)) + per_item_work(
+                angles, ROW_S + encode_cost(MOTION_COLUMNS, csv), ("output_angle_deg",), f"{angles} positions")
         law = self.curves.law(spec.curve, at=("indexer", "curve"))
         return curve_work(law, ("indexer", "curve")) + per_item_work(
             angles, 2 * law.sample_s + ROW_S + encode_cost(MOTION_COLUMNS, csv), ("output_angle_deg",),
             f"{angles} positions") + self.curves.inverse_table_work(law, method, table_step)
 
-    def sizing_work(self, spec: IndexerSpec) -> WorkEstimate:
-        """Sizing: the curve, its characteristic values and the exact peaks (a few ms)."""
-        return self.curves.curve_work(spec.curve, ("indexer", "curve"))
+    def sizing_work(self, spec: IndexerSpec, table_samples: int = 181, motor: bool = False) -> WorkEstimate:
+        """Sizing: the curve, its characteristic values and the exact peaks (a few ms), or a
+        timing chart's laws and peaks; the torque table's rows and the RMS integrals (one,
+        or two with a motor), per moving segment."""
+        if spec.timing is not None:
+            laws = sum(1 for segment in spec.timing.segments if segment.type != "dwell")
+            work = self._timing_work(spec, table_samples * laws, ("indexer", "timing"))
+        else:
+            laws = 1
+            work = self.curves.curve_work(spec.curve, ("indexer", "curve")) + per_item_work(
+                table_samples, ROW_S, ("table_samples",), f"{table_samples} torque rows")
+        integrals = laws * (2 if motor else 1)
+        return work + per_item_work(integrals, RMS_INTEGRAL_S, ("indexer",), f"{integrals} RMS integrals")
 
     # ------------------------------------------------------------------ answers
-    def indexer(self, spec: IndexerSpec) -> camcore.indexer.Indexer:
+    def indexer(self, spec: IndexerSpec) -> camcore.indexer.Indexer | camcore.indexer.TimedIndexer:
+        """The single-curve indexer, or the indexer of a timing chart."""
+        if spec.timing is not None:
+            program = self.motions.program(spec.timing, at=TIMING)
+            with within(*TIMING):
+                camcore.indexer.check_timing(program)
+            with within("indexer"):
+                return camcore.indexer.TimedIndexer(program=program, speed_rpm=spec.speed_rpm,
+                                                    cycle_time_s=spec.cycle_time_s,
+                                                    input_stop_time_s=spec.input_stop_time_s)
+        assert spec.indexing_angle_deg is not None  # the spec's rule without a timing chart
         curve = self.curves.curve(spec.curve, at=("indexer", "curve"))
         with within("indexer"):
             return camcore.indexer.Indexer(
@@ -73,18 +113,42 @@ class IndexerService:
         self.curves.check_limit("number of output angles", len(output_angle_deg),
                                 self.curves.settings.max_inverse_points, ("output_angle_deg",))
         unit = self.indexer(spec)
+        angles = np.asarray(output_angle_deg, dtype=np.float64)
+        if isinstance(unit, camcore.indexer.TimedIndexer):
+            if method != "exact":
+                raise InvalidParameterError("a timing chart's positions are solved exactly: the table method "
+                                            "reproduces the catalog's single-curve tables (use method 'exact').",
+                                            field=("method",))
+            with within(*TIMING, only=NonMonotoneError):  # a segment's law cannot be inverted
+                return unit.position(angles).columns()
         with within("indexer", "curve", only=NonMonotoneError):  # the curve cannot be inverted
-            result = unit.position(np.asarray(output_angle_deg, dtype=np.float64), method=method,
-                                   table_step=table_step, table_decimals=table_decimals)
+            result = unit.position(angles, method=method, table_step=table_step, table_decimals=table_decimals)
         return result.columns()
 
-    def sizing(self, spec: IndexerSpec, load: LoadSpec) -> dict[str, Any]:
+    def sizing(self, spec: IndexerSpec, load: LoadSpec, motor: MotorSpec | None = None,
+               table_samples: int = 181) -> dict[str, Any]:
+        core_load = self.core_load(load)
+        core_motor = None
+        if motor is not None:
+            with within("motor"):
+                core_motor = camcore.indexer.Motor(**motor.model_dump())
+        unit = self.indexer(spec)
+        with within("indexer"), np.errstate(all="ignore"):  # non-finite answers are refused when encoded
+            result = camcore.indexer.size(unit, core_load, accuracy_arc_seconds=load.accuracy_arc_seconds,
+                                          accuracy_radius_mm=load.accuracy_radius_mm,
+                                          internal_friction_torque_nm=spec.internal_friction_torque_nm,
+                                          motor=core_motor, table_samples=table_samples)
+        return as_dict(result)
+
+    @staticmethod
+    def core_load(load: LoadSpec) -> camcore.indexer.Load:
+        """The load as camcore takes it (its errors located under ``load``)."""
         parts = []
         for i, part in enumerate(load.parts):
             with within("load", "parts", i):
                 parts.append(camcore.indexer.LoadPart(**part.model_dump()))
         with within("load"):
-            core_load = camcore.indexer.Load(
+            return camcore.indexer.Load(
                 inertia_kgm2=load.inertia_kgm2,
                 parts=parts,
                 friction_coefficient=load.friction_coefficient,
@@ -93,10 +157,9 @@ class IndexerService:
                 work_torque_nm=load.work_torque_nm,
                 service_factor=load.service_factor,
                 efficiency=load.efficiency,
+                gear_ratio=load.gear_ratio,
+                dwell_torque_nm=load.dwell_torque_nm,
             )
-        result = camcore.indexer.size(self.indexer(spec), core_load, accuracy_arc_seconds=load.accuracy_arc_seconds,
-                           accuracy_radius_mm=load.accuracy_radius_mm)
-        return as_dict(result)
 
     @staticmethod
     def accuracy(arc_seconds: float, radius_mm: float) -> dict[str, float]:

@@ -7,11 +7,24 @@ from typing import Annotated, Literal
 from fastapi.openapi.models import Example
 from pydantic import BaseModel, Field, model_validator
 
-from camcore.indexer import IndexerPosition, LoadPart, MotionSummary, MotionTable, Sizing
-from camcore.indexer.kinematics import check_alternatives, check_total_indexing_angle
+from camcore.indexer import IndexerPosition, LoadPart, MotionSummary, MotionTable, Sizing, check_timing_frame
+from camcore.indexer.checks import check_alternatives, check_speed_alternatives, check_total_indexing_angle
 from service.curves.specs import MS_SPEC, CurveSpec, NamedCurveSpec
 from service.models import answer_model
-from service.specs import BIG, JSON_INTEGER, Spec, exactly_one, examples, given, not_both, one_of_values, rule, together
+from service.motions.specs import MotionSpec
+from service.specs import (
+    BIG,
+    JSON_INTEGER,
+    Spec,
+    absent,
+    exactly_one,
+    examples,
+    given,
+    not_both,
+    one_of_values,
+    rule,
+    together,
+)
 
 #: physical lower bounds: a subnormal speed or time would make th² underflow to zero
 Positive = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-6, le=BIG)]
@@ -22,36 +35,73 @@ INDEXER_EXAMPLE: dict[str, object] = {"stops": 6, "indexing_angle_deg": 270, "sp
 #: and its load: a 50 kg disc of Ø600 mm, friction μ = 0.1 at R = 200 mm, service factor 1.5
 LOAD_EXAMPLE: dict[str, object] = {"parts": [{"shape": "disc", "mass_kg": 50, "diameter_mm": 600}],
                                    "friction_coefficient": 0.1, "friction_radius_mm": 200, "service_factor": 1.5}
+#: a servo motor through a 10:1 reduction (95 %)
+MOTOR_EXAMPLE: dict[str, object] = {"rated_torque_nm": 3.2, "peak_torque_nm": 9.6, "rotor_inertia_kgm2": 0.00034,
+                                    "max_speed_rpm": 3000, "reduction_ratio": 10, "reduction_efficiency": 0.95}
+
+#: the indexer guide's oscillating unit as a timing chart (§4-5): out 90° over 120° of input
+#: (MS), dwell 60°, back over 120° (MS played backwards), dwell 60°
+TIMING_INDEXER_EXAMPLE: dict[str, object] = {
+    "speed_rpm": 60, "timing": {"unit": "deg", "segments": [
+        {"span_deg": 120, "to": 90, "curve": MS_SPEC}, {"span_deg": 60, "type": "dwell"},
+        {"span_deg": 120, "to": 0, "curve": {**MS_SPEC, "direction": "return"}}, {"span_deg": 60, "type": "dwell"}]}}
+TIMING_REPLACES = "a timing chart replaces stops, swing_angle_deg, indexing_angle_deg, dwells and curve: give none of them"
 
 
 class IndexerSpec(Spec):
-    """A cam indexer (stops) or oscillating unit (swing angle) at constant input speed.
+    """A cam indexer (stops) or oscillating unit (swing angle) at constant input speed, or an
+    indexer whose output follows a timing chart over one input turn.
 
     The total indexing angle θt = θh·z (indexing_angle_deg × dwells) is at most 360°.
     """
 
-    # check_alternatives' rules
+    # check_alternatives' rules, and the timing chart in place of stops/swing, angle, dwells and curve
     model_config = examples(
-        INDEXER_EXAMPLE,
-        rules=[rule("give exactly one of stops (n) and swing_angle_deg (ψ, oscillating units)",
-                    exactly_one("stops", "swing_angle_deg")),
+        INDEXER_EXAMPLE, TIMING_INDEXER_EXAMPLE,
+        rules=[rule(TIMING_REPLACES, {"if": given("timing"),
+                                      "then": absent("stops", "swing_angle_deg", "indexing_angle_deg", "dwells", "curve")}),
+               rule("give exactly one of stops (n) and swing_angle_deg (ψ, oscillating units)",
+                    {"if": {"not": given("timing")}, "then": exactly_one("stops", "swing_angle_deg")}),
+               rule("indexing_angle_deg (θh) is needed without a timing chart",
+                    {"if": {"not": given("timing")}, "then": given("indexing_angle_deg")}),
+               rule("a timing chart gives the output angle in deg over one input turn (period_deg 360)",
+                    {"if": given("timing"), "then": {"properties": {"timing": {"required": ["unit"], "properties": {
+                        "unit": {"const": "deg"}, "period_deg": {"const": 360}}}}}}),
                rule("give exactly one of speed_rpm (N) and cycle_time_s (t0 = 60/(N·z))",
                     exactly_one("speed_rpm", "cycle_time_s"))])
     stops: Annotated[int, Field(ge=1, le=100_000), JSON_INTEGER] | None = Field(None, description="n, stops per output turn")
     swing_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-6, le=360)] | None = Field(
         None, description="ψ, output swing of an oscillating unit (instead of stops)")
-    indexing_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-6, le=360)] = Field(
-        description="θh, input angle per index")
+    indexing_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-6, le=360)] | None = Field(
+        None, description="θh, input angle per index (needed without a timing chart)")
     dwells: Annotated[int, Field(ge=1, le=360), JSON_INTEGER] = Field(1, description="z, indexes per input turn")
     speed_rpm: Positive | None = Field(None, description="N, input speed")
     cycle_time_s: Positive | None = Field(None, description="t0, unit cycle time (instead of speed_rpm)")
     input_stop_time_s: NonNegative = Field(0.0, description="ts, input stands still each index")
+    internal_friction_torque_nm: NonNegative = Field(
+        0.0, description="the unit's own friction torque on the input shaft while it turns (the maker's data); in the "
+                         "sizing's torque table, RMS and motor figures")
     curve: CurveSpec = Field(default_factory=lambda: NamedCurveSpec(name="MS"))
+    timing: MotionSpec | None = Field(
+        None, description="a timing chart: the output angle (unit deg) over one input turn (period_deg 360), in place "
+                          "of stops/swing_angle_deg, indexing_angle_deg, dwells and curve; it closes for an "
+                          "oscillating unit (out and back) or advances by the output's travel per input turn. z is "
+                          "then the number of dwells in the chart, and the summary's per-index values are averages")
 
     @model_validator(mode="after")
     def _check(self) -> IndexerSpec:
         # the core's own rules (camcore raises ValueError subclasses: 422 with the same sentence)
+        if self.timing is not None:
+            replaced = [name for name in ("stops", "swing_angle_deg", "indexing_angle_deg", "dwells", "curve")
+                        if name in self.model_fields_set and getattr(self, name) is not None]
+            if replaced:
+                raise ValueError(f"{TIMING_REPLACES} (given: {', '.join(replaced)})")
+            check_timing_frame(self.timing.unit, self.timing.period_deg)
+            check_speed_alternatives(self.speed_rpm, self.cycle_time_s)
+            return self
         check_alternatives(self.stops, self.swing_angle_deg, self.speed_rpm, self.cycle_time_s)
+        if self.indexing_angle_deg is None:
+            raise ValueError("indexing_angle_deg (θh) is needed without a timing chart")
         check_total_indexing_angle(self.indexing_angle_deg, self.dwells)
         return self
 
@@ -109,6 +159,10 @@ class LoadSpec(Spec):
     work_torque_nm: NonNegative = 0.0
     service_factor: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1, le=100)] = 1.5
     efficiency: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=1)] = 1.0
+    gear_ratio: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-3, le=1000)] = Field(
+        1.0, description="g, output-shaft turns per dial turn: the inertia, friction and work torque above are the "
+                         "dial's, reflected to the output shaft as I/g² and T/g")
+    dwell_torque_nm: NonNegative = Field(0.0, description="external torque on the dial held while it stands still")
     accuracy_arc_seconds: NonNegative | None = Field(None, description="with accuracy_radius_mm: arc-seconds → mm")
     accuracy_radius_mm: NonNegative | None = None
 
@@ -138,10 +192,26 @@ class PositionRequest(Spec):
     table_decimals: Annotated[int, Field(ge=0, le=15), JSON_INTEGER] | None = None
 
 
+class MotorSpec(Spec):
+    """A motor to check against the machine cycle (peak, RMS, speed, inertia ratio)."""
+
+    model_config = examples(MOTOR_EXAMPLE)
+    rated_torque_nm: Positive = Field(description="continuous torque")
+    peak_torque_nm: Positive = Field(description="peak torque")
+    rotor_inertia_kgm2: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=BIG)]
+    max_speed_rpm: Positive
+    reduction_ratio: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-3, le=1e5)] = Field(
+        1.0, description="i, motor turns per input-shaft turn")
+    reduction_efficiency: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=1)] = 1.0
+
+
 class SizingRequest(Spec):
     model_config = examples({"indexer": INDEXER_EXAMPLE, "load": LOAD_EXAMPLE})
     indexer: IndexerSpec
     load: LoadSpec
+    motor: MotorSpec | None = None
+    table_samples: Annotated[int, Field(ge=2, le=10_001), JSON_INTEGER] = Field(
+        181, description="rows of the input torque table over each index")
 
 
 #: request examples of the POST operations (Swagger UI pre-fills the first)
@@ -160,6 +230,9 @@ SIZING_EXAMPLES: dict[str, Example] = {
               "description": "the guide's sizing example: I = m·D²/8 = 2.25 kg·m², "
                              "friction torque μ·m·g·R = 9.81 N·m",
               "value": {"indexer": INDEXER_EXAMPLE, "load": LOAD_EXAMPLE}},
+    "motor": {"summary": "the same through a 2:1 belt to the dial, with 2 N·m internal friction and a motor check",
+              "value": {"indexer": {**INDEXER_EXAMPLE, "internal_friction_torque_nm": 2},
+                        "load": {**LOAD_EXAMPLE, "gear_ratio": 2, "dwell_torque_nm": 40}, "motor": MOTOR_EXAMPLE}},
 }
 
 

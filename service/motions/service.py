@@ -13,7 +13,7 @@ from camcore.errors import NonFiniteResultError
 from camcore.motion import Law, law_role, resolve_motion
 from camcore.motion.program import MotionProgram
 from camcore.results import as_dict
-from camcore.work import WorkEstimate, WorkTerm, law_cost, motion_work
+from camcore.work import Field, WorkEstimate, WorkTerm, law_cost, motion_work
 from service.curves.service import CurveService
 from service.curves.specs import NamedCurveSpec
 from service.errors import within
@@ -32,15 +32,12 @@ class MotionService:
         self.curves = curves
 
     # ------------------------------------------------------------------ work estimates
-    def motion_work(self, spec: MotionSpec, samples: int | None, x_deg: list[float] | None, speed_rpm: float | None,
-                    csv: bool) -> WorkEstimate:
-        """A program and its table: 413 first for too many segments, rows or a law over its
-        size limit; then the laws to build (a fixed law repeated is built once), the solved
-        parameters and the rows, encoded."""
-        settings = self.curves.settings
-        self.curves.check_limit("motion segments", len(spec.segments), settings.max_motion_segments,
-                                ("motion", "segments"))
-        rows, field = self._rows(samples, x_deg)
+    def laws(self, spec: MotionSpec, at: Field = ("motion",)) -> tuple[list[LawCost | None], int]:
+        """Each segment's law cost (None where nothing is built: a dwell, a fixed law built
+        before) and how many parameters are solved; 413 first for too many segments or a law
+        over its size limit. ``at``: where the program is in the request."""
+        self.curves.check_limit("motion segments", len(spec.segments), self.curves.settings.max_motion_segments,
+                                (*at, "segments"))
         laws: list[LawCost | None] = []
         seen: set[str] = set()
         solved = 0
@@ -49,7 +46,7 @@ class MotionService:
                 laws.append(None if segment.type == "dwell" or "cycloid" in seen else law_cost("named", {}))
                 seen.add("cycloid")
                 continue
-            law = self.curves.law(segment.curve, at=("motion", "segments", i, "curve"))
+            law = self.curves.law(segment.curve, at=(*at, "segments", i, "curve"))
             role = law_role(Law(segment.curve.type, segment.curve.parameters(), segment.curve.direction))
             fixed = role == "fixed"
             solved += role == "solved"
@@ -57,6 +54,15 @@ class MotionService:
             laws.append(None if fixed and key in seen else law)
             if fixed:
                 seen.add(key)
+        return laws, solved
+
+    def motion_work(self, spec: MotionSpec, samples: int | None, x_deg: list[float] | None, speed_rpm: float | None,
+                    csv: bool) -> WorkEstimate:
+        """A program and its table: 413 first for too many segments, rows or a law over its
+        size limit; then the laws to build (a fixed law repeated is built once), the solved
+        parameters and the rows, encoded."""
+        laws, solved = self.laws(spec)
+        rows, field = self._rows(samples, x_deg)
         columns = COLUMNS + (TIME_COLUMNS if speed_rpm is not None else 0)
         work = motion_work(laws, solved, rows, ("motion", "segments"), field)
         return work + WorkEstimate((WorkTerm(field, f"encoding {rows} rows", encode_cost(rows * columns, csv)),))
@@ -69,10 +75,11 @@ class MotionService:
         return rows, field
 
     # ------------------------------------------------------------------ answers
-    def program(self, spec: MotionSpec) -> MotionProgram:
-        """The resolved program; fixed laws come from the curve cache."""
+    def program(self, spec: MotionSpec, at: Field = ("motion",)) -> MotionProgram:
+        """The resolved program; fixed laws come from the curve cache. ``at``: where the
+        program is in the request."""
         self.curves.check_limit("motion segments", len(spec.segments), self.curves.settings.max_motion_segments,
-                                ("motion", "segments"))
+                                (*at, "segments"))
         core = spec.core()
         specs = {id(seg.law): (i, spec.segments[i].curve) for i, seg in enumerate(core.segments) if seg.law}
 
@@ -81,9 +88,9 @@ class MotionService:
                 return self.curves.curve(NamedCurveSpec(name=str(law.parameters["name"])))
             i, curve_spec = specs[id(law)]
             assert curve_spec is not None  # a law of the core spec is a segment's curve
-            return self.curves.curve(curve_spec, at=("motion", "segments", i, "curve"))
+            return self.curves.curve(curve_spec, at=(*at, "segments", i, "curve"))
 
-        with within("motion"), np.errstate(all="ignore"):  # non-finite results are refused below
+        with within(*at), np.errstate(all="ignore"):  # non-finite results are refused below
             return resolve_motion(core, build=build, limits=self.curves.size_limits())
 
     def motion(self, spec: MotionSpec, samples: int | None, x_deg: list[float] | None,

@@ -10,9 +10,10 @@ import camcore
 from camcore import export
 from camcore.curves.kinds import LawCost
 from camcore.results import as_dict
-from camcore.work import WorkEstimate, WorkTerm, base_circle_work, curve_work, profile_work
+from camcore.work import WorkEstimate, WorkTerm, base_circle_work, curve_work, motion_work, profile_work
 from service.curves.service import CurveService
 from service.errors import within
+from service.motions.service import MotionService
 from service.profiles.specs import ProfileSpec
 from service.responses import encode_cost
 
@@ -27,13 +28,19 @@ UNBOUNDED_COLUMNS = ("radius_of_curvature_mm", "pitch_radius_of_curvature_mm")
 class ProfileService:
     """Plate-cam profiles, checks, base-circle sizing and contour export."""
 
-    def __init__(self, curves: CurveService):
+    def __init__(self, curves: CurveService, motions: MotionService):
         self.curves = curves
+        self.motions = motions
 
     # ------------------------------------------------------------------ work estimates
     def laws(self, spec: ProfileSpec) -> tuple[list[LawCost | None], WorkEstimate]:
         """Each segment's law cost, and the work of building the distinct curves (a spec
-        repeated in several segments is built once: the curve cache)."""
+        repeated in several segments is built once: the curve cache); a motion program's
+        laws, with its solved parameters."""
+        if spec.motion is not None:
+            program_laws, solved = self.motions.laws(spec.motion, at=("profile", "motion"))
+            # the program resolved (no rows: the profile's samples are counted by profile_work)
+            return program_laws, motion_work(program_laws, solved, 0, ("profile", "motion", "segments"), ("samples",))
         if spec.segments is None:
             assert spec.lift is not None
             law = self.curves.law(spec.lift, at=("profile", "lift"))
@@ -77,7 +84,9 @@ class ProfileService:
 
     @staticmethod
     def _schedule_field(spec: ProfileSpec) -> tuple[str, ...]:
-        """The request field of the lift schedule: its segments, or its one lift curve."""
+        """The request field of the lift schedule: its segments, its one lift curve or its program's segments."""
+        if spec.motion is not None:
+            return ("profile", "motion", "segments")
         return ("profile", "segments") if spec.segments is not None else ("profile", "lift")
 
     def _sample_count(self, samples: int | None, cam_angle_deg: list[float] | None) -> tuple[int, tuple[str, ...]]:
@@ -104,6 +113,11 @@ class ProfileService:
             with within("profile"):
                 return camcore.profile.make_cam(follower, radius, segments=segments, rotation=spec.rotation,
                                      rotation_ratio=spec.rotation_ratio)
+        if spec.motion is not None:
+            program = self.motions.program(spec.motion, at=("profile", "motion"))
+            with within("profile"):
+                return camcore.profile.make_cam(follower, radius, motion=program, rotation=spec.rotation,
+                                                rotation_ratio=spec.rotation_ratio)
         assert spec.lift is not None
         lift = self.curves.curve(spec.lift, at=("profile", "lift"))
         with within("profile"):

@@ -23,7 +23,7 @@ from service.curves.routes import ERRORS
 from service.deps import profile_service, work_gate
 from service.profiles.service import ProfileService
 from service.profiles.specs import ROLLER_PROFILE_EXAMPLE, ProfileRequest, ProfileSpec, SolidSpec
-from service.profiles.toolpath import strokes_mm
+from service.profiles.toolpath import schedule, strokes_mm
 from service.specs import examples
 
 Service = Annotated[ProfileService, Depends(profile_service)]
@@ -49,9 +49,8 @@ def solid_work(service: ProfileService, spec: ProfileSpec, solid: SolidSpec, fmt
     """The curves, the contour's fit (at half the tolerance for an STL) and the kernel's work."""
     laws, work = service.laws(spec)
     tolerance = solid.tolerance_mm / (2 if fmt == "stl" else 1)
-    segments = len(spec.segments) if spec.segments is not None else 8
+    segments, field = schedule(spec)
     elements = fit_elements_estimate(strokes_mm(spec), segments, tolerance)
-    field = ("profile", "segments") if spec.segments is not None else ("profile", "lift")
     work += fit_work(laws, elements, 1, field, ("solid", "tolerance_mm"))
     return work + WorkEstimate((WorkTerm(("solid", "tolerance_mm"), f"the {fmt} solid of about {elements} edges",
                                          SOLID_FORMATS[fmt].cost(elements)),))

@@ -11,6 +11,7 @@ from camcore.profile import BaseCircleResult, Follower, ProfileChecks
 from camcore.profile.followers import check_follower
 from service.curves.specs import MS_SPEC, BezierCurveSpec, CurveSpec, PointsCurveSpec
 from service.models import answer_model
+from service.motions.specs import FEED_CYCLE, MotionSpec
 from service.specs import (
     BIG,
     JSON_INTEGER,
@@ -40,6 +41,11 @@ KNIFE_EDGE_PROFILE_EXAMPLE: dict[str, object] = {
     "follower": {"type": "knife-edge"}, "base_radius_mm": 15,
     "segments": [{"type": "rise", "angle_deg": 180, "lift_mm": 20},
                  {"type": "return", "angle_deg": 180, "lift_mm": 20}]}
+
+#: a roller cam driven by a motion program: dwell, rise with a matched quintic into a
+#: constant-velocity stretch, matched quintic to rest, dwell, cycloid back
+MOTION_PROFILE_EXAMPLE: dict[str, object] = {
+    "follower": {"type": "roller", "roller_radius_mm": 10}, "base_radius_mm": 50, "motion": FEED_CYCLE}
 
 
 #: conditions on a follower spec, a missing field read as its default
@@ -104,7 +110,7 @@ class SegmentSpec(Spec):
 
 
 class ProfileSpec(Spec):
-    """The cam: follower, base circle, and the lift as segments or as one curve.
+    """The cam: follower, base circle, and the lift as segments, as one curve or as a motion program.
 
     Segment angles add to 360°, and the schedule closes (it returns to the lift it starts at).
     A translating follower other than a flat-faced one needs |offset_mm| < base_radius_mm +
@@ -112,9 +118,15 @@ class ProfileSpec(Spec):
     """
 
     model_config = examples(
-        ROLLER_PROFILE_EXAMPLE,
-        rules=[rule("give the lift either as segments or as one lift curve (bezier or points)",
-                    exactly_one("segments", "lift")),
+        ROLLER_PROFILE_EXAMPLE, MOTION_PROFILE_EXAMPLE,
+        rules=[rule("give the lift as segments, as one lift curve (bezier or points) or as a motion program",
+                    exactly_one("segments", "lift", "motion")),
+               rule("an oscillating follower's motion program is in deg (of swing)",
+                    {"if": {"properties": {"follower": OSCILLATING}},
+                     "then": {"properties": {"motion": {"required": ["unit"], "properties": {"unit": {"const": "deg"}}}}}}),
+               rule("a translating follower's motion program is in mm",
+                    {"if": {"properties": {"follower": TRANSLATING}},
+                     "then": {"properties": {"motion": {"properties": {"unit": {"const": "mm"}}}}}}),
                rule("an oscillating follower's lift is swing_deg, not lift_mm",
                     {"if": {"properties": {"follower": OSCILLATING}},
                      "then": {"properties": {"segments": {"items": {"properties": {"lift_mm": {"maximum": 0}}}}}}}),
@@ -129,11 +141,21 @@ class ProfileSpec(Spec):
     segments: list[SegmentSpec] | None = Field(None, min_length=1, max_length=360)
     lift: Annotated[BezierCurveSpec | PointsCurveSpec, Field(discriminator="type")] | None = Field(
         None, description="one Bezier or points curve of lift over the drive angle, ending at the lift it starts with")
+    motion: MotionSpec | None = Field(
+        None, description="a motion program over the drive angle that closes (ends where it starts): one cam turn is "
+                          "360/rotation_ratio degrees of it, a whole number of its periods; mm for a translating "
+                          "follower, deg of swing for an oscillating one")
 
     @model_validator(mode="after")
     def _check(self) -> ProfileSpec:
-        if (self.segments is None) == (self.lift is None):
-            raise ValueError("give the lift either as segments or as one lift curve (bezier or points)")
+        if sum(given is not None for given in (self.segments, self.lift, self.motion)) != 1:
+            raise ValueError("give the lift as segments, as one lift curve (bezier or points) or as a motion program")
+        if self.motion is not None:
+            oscillating = self.follower.motion == "oscillating"
+            if oscillating and self.motion.unit != "deg":
+                raise ValueError("an oscillating follower's motion program is in deg (of swing)")
+            if not oscillating and self.motion.unit != "mm":
+                raise ValueError("a translating follower's motion program is in mm")
         if self.segments is not None:
             total = sum(s.angle_deg for s in self.segments)
             if abs(total - 360) > 1e-9:
@@ -209,6 +231,9 @@ CONSTANT_VELOCITY: dict[str, object] = {"type": "named", "name": "constant-veloc
 PROFILE_EXAMPLES: dict[str, Example] = {
     "roller": {"summary": "roller follower: rise 20 mm / dwell / return / dwell, 361 points",
                "value": {"profile": ROLLER_PROFILE_EXAMPLE, "samples": 361}},
+    "motion": {"summary": "roller follower driven by a motion program (rest, matched quintics around a constant "
+                          "velocity feed, rest, cycloid back)",
+               "value": {"profile": MOTION_PROFILE_EXAMPLE, "samples": 361}},
     "knife-edge": {"summary": "knife-edge follower at given cam angles",
                    "description": "Shinzato 1988, table 1 (constant velocity): pressure angle 21.56° at 10°",
                    "value": {"profile": {**KNIFE_EDGE_PROFILE_EXAMPLE, "segments": [

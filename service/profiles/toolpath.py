@@ -144,7 +144,10 @@ class ToolpathAnswer(DefaultsInDescriptions):
 
 def strokes_mm(spec: ProfileSpec) -> list[float]:
     """The stroke of each moving segment in mm (a swing as the arc of the arm, or of the
-    pivot distance for a flat face); a lift curve counts as 8 strokes of the base radius."""
+    pivot distance for a flat face); a lift curve counts as 8 strokes of the base radius, a
+    motion program's move as one (its strokes may be solved, so unknown before it runs)."""
+    if spec.motion is not None:
+        return [spec.base_radius_mm for s in spec.motion.segments if s.type != "dwell"]
     if spec.segments is None:
         return [spec.base_radius_mm] * 8
     arm = spec.follower.arm_length_mm or spec.follower.pivot_distance_mm or 1.0
@@ -152,13 +155,21 @@ def strokes_mm(spec: ProfileSpec) -> list[float]:
             for s in spec.segments if s.type != "dwell"]
 
 
+def schedule(spec: ProfileSpec) -> tuple[int, tuple[str, ...]]:
+    """The lift schedule's segment count (a lift curve: 8) and its request field."""
+    if spec.motion is not None:
+        return len(spec.motion.segments), ("profile", "motion", "segments")
+    if spec.segments is not None:
+        return len(spec.segments), ("profile", "segments")
+    return 8, ("profile", "lift")
+
+
 def toolpath_work(service: ProfileService, body: ToolpathRequest, fmt: str) -> WorkEstimate:
     """The curves, the checks of each wall, the fitted elements and the answer's encoding."""
     laws, work = service.laws(body.profile)
     paths = 2 if body.side == "groove" else 1
-    segments = len(body.profile.segments) if body.profile.segments is not None else 8
+    segments, field = schedule(body.profile)
     elements = paths * fit_elements_estimate(strokes_mm(body.profile), segments, body.tolerance_mm)
-    field = ("profile", "segments") if body.profile.segments is not None else ("profile", "lift")
     work += fit_work(laws, elements, paths, field, ("tolerance_mm",))
     seconds = TOOLPATH_FORMATS[fmt].cost(elements) if fmt in TOOLPATH_FORMATS else \
         encode_cost(elements * ELEMENT_VALUES, False)

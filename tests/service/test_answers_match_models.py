@@ -22,6 +22,7 @@ from service.curves import routes as curves
 from service.indexers import routes as indexers
 from service.motions import routes as motions
 from service.plots import routes as plots
+from service.profiles import dynamics_routes as dynamics
 from service.profiles import routes as profiles
 
 pytestmark = pytest.mark.anyio
@@ -29,7 +30,7 @@ pytestmark = pytest.mark.anyio
 APP = create_app()
 DOC = APP.openapi()
 # the routers' own routes (this FastAPI lists included routers, not their routes, in app.routes)
-ROUTES = {(route.path, method.lower()): route for module in (curves, health, indexers, motions, plots, profiles)
+ROUTES = {(route.path, method.lower()): route for module in (curves, dynamics, health, indexers, motions, plots, profiles)
           for route in module.router.routes if isinstance(route, APIRoute) for method in route.methods}
 GETS = {
     "/v1/curves": {},

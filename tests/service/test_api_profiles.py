@@ -80,7 +80,7 @@ async def test_bezier_lift_for_a_flat_faced_follower(client: httpx.AsyncClient) 
     ({**PAPER, "segments": PAPER["segments"][:1]}, "must add to 360°"),
     ({**ROLLER, "follower": {"type": "roller"}}, "roller_radius_mm > 0"),
     ({**PAPER, "follower": {"type": "knife-edge", "offset_mm": 20}}, "offset must be smaller"),
-    ({**PAPER, "segments": None}, "either as segments or as one lift curve"),
+    ({**PAPER, "segments": None}, "as segments, as one lift curve"),
     ({**PAPER, "follower": {"type": "knife-edge", "motion": "oscillating", "arm_length_mm": 50}}, "pivot_distance_mm"),
 ])
 async def test_profile_validation(client: httpx.AsyncClient, profile: dict, words: str) -> None:

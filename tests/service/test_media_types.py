@@ -18,6 +18,7 @@ import pytest
 from service.app import create_app
 from service.indexers.specs import INDEXER_EXAMPLE
 from service.motions.specs import FEED_CYCLE
+from service.profiles.dynamics_specs import DYNAMICS_EXAMPLE
 from service.profiles.specs import KNIFE_EDGE_PROFILE_EXAMPLE
 
 pytestmark = pytest.mark.anyio
@@ -30,7 +31,10 @@ MOTION = {"indexer": INDEXER_EXAMPLE, "samples": 11}
 POSITION = {"indexer": INDEXER_EXAMPLE, "output_angle_deg": [11]}
 PROFILE = {"profile": KNIFE_EDGE_PROFILE_EXAMPLE, "samples": 37}
 PROGRAM = {"motion": FEED_CYCLE, "samples": 13}
+DYNAMICS = {**DYNAMICS_EXAMPLE, "samples": 13}
 CSV_ACCEPT = {"Accept": "text/csv"}
+SWEEP = {"load": {"inertia_kgm2": 2}, "stops": [6], "indexing_angle_deg": [270], "curves": [{"type": "named", "name": "MS"}],
+         "speed_rpm": [30, 60]}
 SOLID = {**PROFILE, "solid": {"thickness_mm": 10, "bore_diameter_mm": 10}}
 TOOLPATH = {"profile": KNIFE_EDGE_PROFILE_EXAMPLE, "tool_radius_mm": 5, "tolerance_mm": 0.01}
 
@@ -50,6 +54,10 @@ CASES: list[tuple[str, str, str, dict[str, Any] | None, dict[str, str], str]] = 
     ("POST", "/v1/indexers/motion.csv", "/v1/indexers/motion.csv", MOTION, {}, "text/csv"),
     ("POST", "/v1/indexers/position", "/v1/indexers/position", POSITION, CSV_ACCEPT, "text/csv"),
     ("POST", "/v1/indexers/position.csv", "/v1/indexers/position.csv", POSITION, {}, "text/csv"),
+    ("POST", "/v1/indexers/sizing/sweep", "/v1/indexers/sizing/sweep", SWEEP, {}, "application/json"),
+    ("POST", "/v1/indexers/sizing/sweep", "/v1/indexers/sizing/sweep", SWEEP, CSV_ACCEPT, "text/csv"),
+    ("POST", "/v1/indexers/sizing/sweep", "/v1/indexers/sizing/sweep?format=png", SWEEP, {}, "image/png"),
+    ("POST", "/v1/indexers/sizing/sweep", "/v1/indexers/sizing/sweep?format=svg", SWEEP, {}, "image/svg+xml"),
     ("POST", "/v1/motions", "/v1/motions", PROGRAM, {}, "application/json"),
     ("POST", "/v1/motions", "/v1/motions?format=csv", PROGRAM, {}, "text/csv"),
     ("POST", "/v1/motions", "/v1/motions", PROGRAM, CSV_ACCEPT, "text/csv"),
@@ -63,6 +71,12 @@ CASES: list[tuple[str, str, str, dict[str, Any] | None, dict[str, str], str]] = 
     ("POST", "/v1/profiles/contour.csv", "/v1/profiles/contour.csv", PROFILE, {}, "text/csv"),
     ("POST", "/v1/profiles/contour.dxf", "/v1/profiles/contour.dxf", PROFILE, {}, "application/dxf"),
     ("POST", "/v1/profiles/contour.xyz", "/v1/profiles/contour.xyz", PROFILE, {}, "text/plain"),
+    ("POST", "/v1/profiles/dynamics", "/v1/profiles/dynamics", DYNAMICS, {}, "application/json"),
+    ("POST", "/v1/profiles/dynamics", "/v1/profiles/dynamics?format=csv", DYNAMICS, {}, "text/csv"),
+    ("POST", "/v1/profiles/dynamics", "/v1/profiles/dynamics", DYNAMICS, CSV_ACCEPT, "text/csv"),
+    ("POST", "/v1/profiles/dynamics/table.csv", "/v1/profiles/dynamics/table.csv", DYNAMICS, {}, "text/csv"),
+    ("GET", "/v1/profiles/dynamics/plot", "/v1/profiles/dynamics/plot?speed_rpm=600&mass_kg=0.5&spring_rate_n_mm=2"
+     "&samples=101&format=png", None, {}, "image/png"),
     ("POST", "/v1/profiles", "/v1/profiles?format=step", SOLID, {}, "model/step"),
     ("POST", "/v1/profiles", "/v1/profiles?format=stl", SOLID, {}, "model/stl"),
     ("POST", "/v1/profiles/solid.step", "/v1/profiles/solid.step", SOLID, {}, "model/step"),
@@ -123,8 +137,8 @@ def test_json_answers_keep_their_models_and_come_first() -> None:
 def test_file_twins_answer_only_their_file() -> None:
     twins = {path: ops["post"] if "post" in ops else ops["get"] for path, ops in DOC["paths"].items()
              if path.endswith((".csv", ".dxf", ".xyz", ".step", ".stl", ".nc"))}
-    # the 11 table and contour files, the cam table, the toolpath's G-code and DXF, the two solids
-    assert len(twins) == 16, sorted(twins)
+    # the 12 table and contour files, the cam table, the toolpath's G-code and DXF, the two solids
+    assert len(twins) == 17, sorted(twins)
     for path, op in twins.items():
         content = op["responses"]["200"]["content"]
         assert len(content) == 1, (path, list(content))

@@ -20,7 +20,9 @@ from pydantic import BaseModel
 
 from service.curves import specs as schemas
 from service.indexers import specs as indexer_schemas
+from service.indexers import sweep as sweep_schemas
 from service.motions import specs as motion_schemas
+from service.profiles import dynamics_specs as dynamics_schemas
 from service.profiles import solids as solid_schemas
 from service.profiles import specs as profile_schemas
 from service.profiles import toolpath as toolpath_schemas
@@ -127,7 +129,8 @@ def request_side_schemas() -> set[str]:
 
 def model_classes() -> dict[str, type[BaseModel]]:
     out: dict[str, type[BaseModel]] = {}
-    for module in (schemas, indexer_schemas, motion_schemas, profile_schemas, solid_schemas, toolpath_schemas):
+    for module in (schemas, dynamics_schemas, indexer_schemas, sweep_schemas, motion_schemas, profile_schemas,
+                   solid_schemas, toolpath_schemas):
         for value in vars(module).values():
             if isinstance(value, type) and issubclass(value, BaseModel):
                 out[value.__name__] = value

@@ -17,6 +17,7 @@ from service.curves import routes as curves
 from service.indexers import routes as indexers
 from service.motions import routes as motions
 from service.plots import routes as plots
+from service.profiles import dynamics_routes as dynamics
 from service.profiles import routes as profiles
 from service.routing import OrjsonRequest, OrjsonRoute
 
@@ -55,7 +56,7 @@ def test_malformed_bodies_raise_what_the_standard_library_raises(body: bytes) ->
 
 
 def test_every_api_operation_parses_with_orjson() -> None:
-    routes = [r for module in (curves, health, indexers, motions, plots, profiles)
+    routes = [r for module in (curves, dynamics, health, indexers, motions, plots, profiles)
               for r in module.router.routes]
     operations = sum(len(ops) for ops in create_app().openapi()["paths"].values())
     # every operation of the document is a route of these routers (30 with the file twins,

@@ -117,6 +117,20 @@ def indexer(**fields: Any) -> tuple[str, dict[str, Any]]:
     return "/v1/indexers/motion", {"indexer": {k: v for k, v in spec.items() if v is not None}, "samples": 11}
 
 
+#: 6 stops as a timing chart: 60° over 270° of input (MS), dwell 90°
+TIMING_CHART = {"unit": "deg", "segments": [{"span_deg": 270, "stroke": 60, "curve": MS},
+                                            {"span_deg": 90, "type": "dwell"}]}
+#: a closed program in mm: rise 20 mm, dwell, return, dwell
+CLOSED_MM = {"segments": [{"span_deg": 120, "to": 20}, {"span_deg": 60, "type": "dwell"}, {"span_deg": 120, "to": 0},
+                          {"span_deg": 60, "type": "dwell"}]}
+
+
+def timing(**fields: Any) -> tuple[str, dict[str, Any]]:
+    """An indexer driven by :data:`TIMING_CHART` at 60 rpm; ``fields`` add or replace (None removes)."""
+    spec = {"speed_rpm": 60, "timing": TIMING_CHART, **fields}
+    return "/v1/indexers/motion", {"indexer": {k: v for k, v in spec.items() if v is not None}, "samples": 11}
+
+
 def load(**fields: Any) -> tuple[str, dict[str, Any]]:
     spec = {"parts": [DISC], **fields}
     return "/v1/indexers/sizing", {"indexer": INDEXER, "load": spec}
@@ -150,6 +164,17 @@ def cutting_feed(curve_2: dict[str, Any], to: float | None = None) -> tuple[str,
                 {"span_deg": 90, "type": "dwell"}]
     return "/v1/motions", {"motion": {"segments": segments}, "samples": 11}
 
+
+def dynamics(follower: dict[str, Any] = ROLLER, lift: dict[str, float] | None = None,
+             **fields: Any) -> tuple[str, dict[str, Any]]:
+    """A follower on the cam of :func:`profile` at 300 rpm; ``fields`` give its load (None: left out)."""
+    body = {"profile": profile(follower, segments=segments(lift or {"lift_mm": 20})), "speed_rpm": 300,
+            "samples": 11, **fields}
+    return "/v1/profiles/dynamics", {k: v for k, v in body.items() if v is not None}
+
+
+TRANSLATING_LOAD = {"mass_kg": 0.5, "spring_rate_n_mm": 2, "preload_n": 30}
+OSCILLATING_LOAD = {"inertia_kgm2": 0.004, "spring_rate_nm_rad": 20, "preload_nm": 3}
 
 #: rule → (bodies that keep it, [(a body that breaks it, words of the app's 422)]).
 #: A model rule is named by its description in the document, a keyword by its JSON pointer.
@@ -197,9 +222,24 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
         [table(t=[0.5])], [(table(t=[]), "t must list at least one time")]),
     # indexer and load
     "give exactly one of stops (n) and swing_angle_deg (ψ, oscillating units)": (
-        [indexer(), indexer(stops=None, swing_angle_deg=60)],
+        [indexer(), indexer(stops=None, swing_angle_deg=60), timing()],
         [(indexer(swing_angle_deg=60), "give exactly one of stops (n) and swing_angle_deg"),
          (indexer(stops=None), "give exactly one of stops (n) and swing_angle_deg")]),
+    "a timing chart replaces stops, swing_angle_deg, indexing_angle_deg, dwells and curve: give none of them": (
+        [timing(), timing(cycle_time_s=1.5, speed_rpm=None)],
+        [(timing(stops=6), "a timing chart replaces stops"), (timing(dwells=1), "a timing chart replaces stops"),
+         (timing(indexing_angle_deg=270), "a timing chart replaces stops"),
+         (timing(curve=MS), "a timing chart replaces stops")]),
+    "indexing_angle_deg (θh) is needed without a timing chart": (
+        [indexer()], [(indexer(indexing_angle_deg=None), "indexing_angle_deg (θh) is needed")]),
+    "a timing chart gives the output angle in deg over one input turn (period_deg 360)": (
+        [timing()],
+        [(timing(timing={**TIMING_CHART, "unit": "mm"}), "a timing chart gives the output angle in 'deg'"),
+         (timing(timing={k: v for k, v in TIMING_CHART.items() if k != "unit"}),
+          "a timing chart gives the output angle in 'deg'"),
+         (timing(timing={**TIMING_CHART, "period_deg": 720, "segments": [
+             {"span_deg": 540, "stroke": 60, "curve": MS}, {"span_deg": 180, "type": "dwell"}]}),
+          "a timing chart spans one input turn")]),
     "give exactly one of speed_rpm (N) and cycle_time_s (t0 = 60/(N·z))": (
         [indexer(speed_rpm=None, cycle_time_s=2)],
         [(indexer(cycle_time_s=1), "give exactly one of speed_rpm (N) and cycle_time_s"),
@@ -257,11 +297,22 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
         [cam(ROLLER, segments=segments({"lift_mm": 20}, rise={"curve": {**MS, "direction": "rise"}}))],
         [(cam(ROLLER, segments=segments({"lift_mm": 20}, rise={"curve": {**MS, "direction": "return"}})),
           "a segment's type sets its direction")]),
-    "give the lift either as segments or as one lift curve (bezier or points)": (
-        [cam(ROLLER, segments=None, lift={"type": "points", "t": [0, 180, 360], "s": [0, 10, 0]})],
-        [(cam(ROLLER, segments=None), "give the lift either as segments or as one lift curve"),
+    "give the lift as segments, as one lift curve (bezier or points) or as a motion program": (
+        [cam(ROLLER, segments=None, lift={"type": "points", "t": [0, 180, 360], "s": [0, 10, 0]}),
+         cam(ROLLER, segments=None, motion=CLOSED_MM)],
+        [(cam(ROLLER, segments=None), "give the lift as segments, as one lift curve"),
          (cam(ROLLER, lift={"type": "points", "t": [0, 180, 360], "s": [0, 10, 0]}),
-          "give the lift either as segments or as one lift curve")]),
+          "give the lift as segments, as one lift curve"),
+         (cam(ROLLER, motion=CLOSED_MM), "give the lift as segments, as one lift curve")]),
+    "an oscillating follower's motion program is in deg (of swing)": (
+        [cam(OSCILLATING, segments=None, motion={**CLOSED_MM, "unit": "deg"})],
+        [(cam(OSCILLATING, segments=None, motion=CLOSED_MM), "an oscillating follower's motion program is in deg"),
+         (cam(OSCILLATING, segments=None, motion={**CLOSED_MM, "unit": "mm"}),
+          "an oscillating follower's motion program is in deg")]),
+    "a translating follower's motion program is in mm": (
+        [cam(ROLLER, segments=None, motion={**CLOSED_MM, "unit": "mm"})],
+        [(cam(ROLLER, segments=None, motion={**CLOSED_MM, "unit": "deg"}),
+          "a translating follower's motion program is in mm")]),
     "an oscillating follower's lift is swing_deg, not lift_mm": (
         [cam(OSCILLATING, segments=segments({"swing_deg": 20}))],
         [(cam(OSCILLATING, segments=segments({"lift_mm": 20})), "an oscillating follower's lift is swing_deg")]),
@@ -317,6 +368,25 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
         [program(samples=None, x_deg=[10])], [(program(x_deg=[10]), "give either samples or x_deg, not both")]),
     "/components/schemas/MotionProgramRequest/properties/x_deg/anyOf/0/minItems": (
         [program(samples=None, x_deg=[10])], [(program(samples=None, x_deg=[]), "x_deg must list at least one angle")]),
+    # follower dynamics
+    "a translating follower's load is mass_kg and spring_rate_n_mm (with preload_n, external_force_n, damping_n_s_mm), "
+    "not the torques of an oscillating one": (
+        [dynamics(**TRANSLATING_LOAD), dynamics({"type": "knife-edge"}, mass_kg=1, spring_rate_n_mm=1)],
+        [(dynamics(mass_kg=1), "(missing spring_rate_n_mm)"),
+         (dynamics(**TRANSLATING_LOAD, preload_nm=3), "(preload_nm given)"),
+         (dynamics(**TRANSLATING_LOAD, damping_nm_s_rad=0.1), "(damping_nm_s_rad given)")]),
+    "an oscillating follower's load is inertia_kgm2 and spring_rate_nm_rad (with preload_nm, external_torque_nm, "
+    "damping_nm_s_rad), not the forces of a translating one": (
+        [dynamics(OSCILLATING, {"swing_deg": 20}, **OSCILLATING_LOAD)],
+        [(dynamics(OSCILLATING, {"swing_deg": 20}, inertia_kgm2=0.004), "(missing spring_rate_nm_rad)"),
+         (dynamics(OSCILLATING, {"swing_deg": 20}, **OSCILLATING_LOAD, external_force_n=3),
+          "(external_force_n given)")]),
+    "roller (width and materials, for the contact stress) needs a roller follower": (
+        [dynamics(**TRANSLATING_LOAD, roller={"width_mm": 10})],
+        [(dynamics({"type": "flat-faced"}, **TRANSLATING_LOAD, roller={"width_mm": 10}),
+          "needs a roller follower, not a flat-faced follower"),
+         (dynamics({"type": "knife-edge"}, **TRANSLATING_LOAD, roller={"width_mm": 10}),
+          "needs a roller follower, not a knife-edge follower")]),
     "give max_pressure_angle_deg and/or min_radius_of_curvature_mm (a flat-faced follower may give neither)": (
         [base_circle(ROLLER, max_pressure_angle_deg=30), base_circle({"type": "flat-faced"})],
         [(base_circle(ROLLER), "give max_pressure_angle_deg and/or min_radius_of_curvature_mm")]),
@@ -404,7 +474,7 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     # the order of an array's items (JSON Schema compares no two items)
     "break points must satisfy T0 ≤ T1 ≤ … ≤ T7", "the curve needs T7 > T0", "t must be strictly increasing",
     "are too close to tell apart relative to the range of t", "all points have the same s",
-    "The lift curve does not close", "spans of the lift curve",
+    "The lift curve does not close", "periods of the lift curve", "does not fit a whole number of times",
     # the lengths of two arrays
     "t and s must have the same length", "v must have one slope per point",
     # two numbers of a spec compared, or summed, or multiplied
@@ -417,6 +487,7 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     # what the curve or the cam turns out to be, known once computed
     "these break points cannot reach both S7 and V7", "is outside the stroke of this curve",
     "displacement S is not monotone over its stroke", "the curve must move", "is outside the index",
+    "do not determine a polynomial of degree",
     "One cam turn is", "The arm cannot be assembled",
     # a toolpath: the tool against the cam's curvature or its roller (two numbers of different
     # objects compared), the heights compared, and what the fit turns out to need
@@ -431,6 +502,9 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     "but this law starts at rest", "ends at rest, so that stroke is 0", "(nearly) dependent, so no one spline",
     "the law ends where it starts", "needs a stroke to scale its neighbours' velocities", "which is 0 here",
     "the neighbours' velocities scaled to this universal curve are not finite", "where the program has no other segment",
+    # follower dynamics: what the cam turns out to be (an impact where its lift's velocity jumps, a
+    # roller that undercuts it), known once the lift is evaluated
+    "the follower's acceleration is infinite there (an impact)", "The roller undercuts the cam",
     # a result beyond the range of float64
     "produced a non-finite number",
 )))

@@ -1,0 +1,102 @@
+"""POST /v1/indexers/sizing/sweep: the spec, its answer, and the bridge to camcore.indexer.sweep."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+import numpy as np
+from fastapi.openapi.models import Example
+from pydantic import Field, create_model, model_validator
+
+from camcore.indexer import Sizing
+from camcore.indexer.checks import check_speed_alternatives
+from camcore.indexer.sweep import size_sweep
+from camcore.results import answer_fields
+from camcore.work import WorkEstimate, per_item_work
+from service.curves.service import CurveService
+from service.curves.specs import MS_SPEC, CurveSpec
+from service.indexers.service import IndexerService
+from service.indexers.specs import LOAD_EXAMPLE, LoadSpec, Positive
+from service.specs import JSON_INTEGER, Spec, exactly_one, examples, rule
+
+#: one sized design: measured 34-70 µs per combination (1-4 curves, 500-32 000 rows); ×1.5
+SWEEP_ROW_S = 1.5 * 7e-5
+#: drawing the sweep's chart, up to 16 panels (measured 0.1-0.3 s); ×1.5
+SWEEP_CHART_S = 1.5 * 0.3
+
+SWEEP_EXAMPLE: dict[str, object] = {
+    "load": LOAD_EXAMPLE, "stops": [4, 6, 8], "indexing_angle_deg": [120, 180, 270],
+    "curves": [MS_SPEC, {"type": "named", "name": "MCV50"}, {"type": "named", "name": "TR"}],
+    "speed_rpm": [30, 60, 90, 120]}
+
+
+class SizingSweepRequest(Spec):
+    """Every combination of stops × indexing angles × curves × speeds (or cycle times), sized
+    with one load; rows in that order, the last varying fastest."""
+
+    model_config = examples(SWEEP_EXAMPLE, rules=[rule("give exactly one of speed_rpm (N) and cycle_time_s "
+                                                       "(t0 = 60/(N·z))", exactly_one("speed_rpm", "cycle_time_s"))])
+    load: LoadSpec
+    stops: list[Annotated[int, Field(ge=1, le=100_000), JSON_INTEGER]] = Field(min_length=1)
+    indexing_angle_deg: list[Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-6, le=360)]] = Field(
+        min_length=1)
+    curves: list[CurveSpec] = Field(min_length=1, max_length=100)
+    speed_rpm: Annotated[list[Positive], Field(json_schema_extra={"minItems": 1})] | None = None
+    cycle_time_s: Annotated[list[Positive], Field(json_schema_extra={"minItems": 1})] | None = Field(
+        None, description="t0 = 60/N (one index per input turn) instead of speed_rpm")
+
+    @model_validator(mode="after")
+    def _check(self) -> SizingSweepRequest:
+        check_speed_alternatives(self.speed_rpm, self.cycle_time_s)
+        if not (self.speed_rpm or self.cycle_time_s):
+            raise ValueError("speed_rpm (or cycle_time_s) must list at least one value")
+        return self
+
+    @property
+    def combinations(self) -> int:
+        speeds = len(self.speed_rpm or self.cycle_time_s or ())
+        return len(self.stops) * len(self.indexing_angle_deg) * len(self.curves) * speeds
+
+
+SWEEP_EXAMPLES: dict[str, Example] = {
+    "grid": {"summary": "3 stops × 3 angles × 3 curves × 4 speeds: 108 designs, the guide's load",
+             "value": SWEEP_EXAMPLE},
+}
+
+#: the sweep's columns: the design, then every sizing figure that depends on it
+_FIGURES: dict[str, Any] = {name: (list[float], Field(description=text)) for name, _, text, _ in answer_fields(Sizing)
+            if name in ("alpha_max_rad_s2", "omega_max_rad_s", "inertia_torque_nm", "output_torque_nm",
+                        "design_output_torque_nm", "input_torque_nm", "input_torque_t", "input_torque_input_angle_deg",
+                        "input_torque_time_s", "input_torque_pos_nm", "input_torque_pos_t", "input_torque_neg_nm",
+                        "input_torque_neg_t", "input_torque_catalog_nm", "qm", "input_power_kw",
+                        "input_power_catalog_kw", "speed_rpm")}
+SizingSweepAnswer = create_model(
+    "SizingSweepAnswer", __doc__="One row per combination (the sizing figures of sizeIndexer, column by column).",
+    stops=(list[float], Field(description="n")), indexing_angle_deg=(list[float], Field(description="θh [deg]")),
+    curve=(list[str], Field(description="the curve's catalog id, or its spec's kind")),
+    cycle_time_s=(list[float] | None, Field(None, description="with cycle_time_s: t0 [s]")), **_FIGURES)
+SizingSweepAnswer.__module__ = __name__
+
+
+def sweep_work(curves: CurveService, body: SizingSweepRequest, chart: bool = False) -> WorkEstimate:
+    """413 over the combination limit; the curves and the rows (and a chart's drawing)."""
+    curves.check_limit("sizing combinations", body.combinations, curves.settings.max_sweep_combinations,
+                       ("stops",))
+    work = WorkEstimate()
+    for i, spec in enumerate(body.curves):
+        work += curves.curve_work(spec, ("curves", i))
+    work += per_item_work(body.combinations, SWEEP_ROW_S, ("stops",), f"{body.combinations} designs")
+    if chart:  # matplotlib: ~0.1-0.3 s for up to 16 panels (measured), ×1.5
+        work += per_item_work(1, SWEEP_CHART_S, ("stops",), "drawing the chart")
+    return work
+
+
+def sweep(indexers: IndexerService, body: SizingSweepRequest) -> dict[str, Any]:
+    """The sweep's columns."""
+    curves = indexers.curves
+    built = [curves.curve(spec, at=("curves", i)) for i, spec in enumerate(body.curves)]
+    names = [str(getattr(spec, "name", None) or getattr(spec, "number", None) or spec.type) for spec in body.curves]
+    load = indexers.core_load(body.load)
+    with np.errstate(all="ignore"):  # non-finite answers are refused when encoded
+        return size_sweep(load, body.stops, body.indexing_angle_deg, built, names, speed_rpm=body.speed_rpm,
+                          cycle_time_s=body.cycle_time_s)
