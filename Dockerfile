@@ -14,6 +14,12 @@ ENV PYTHONUNBUFFERED=1 \
     CAMCORE_WORKERS=1
 
 WORKDIR /app
+# the CAD kernel's wheel (cadquery-ocp-novtk: STEP and STL solids) loads libGL and libX11, which
+# the slim image lacks; the versions are the base image's Debian release's (pinning them would
+# break the build at every base-image update)
+# hadolint ignore=DL3008
+RUN apt-get update && apt-get install -y --no-install-recommends libgl1 libx11-6 \
+    && rm -rf /var/lib/apt/lists/*
 RUN groupadd --gid 10001 camcore && useradd --uid 10001 --gid 10001 --no-create-home camcore
 
 # dependencies first, so code changes do not invalidate this layer

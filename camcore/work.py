@@ -362,3 +362,80 @@ def vibration_work(law: LawCost, cells: int, tau: Sequence[float], field: Field,
                + 1.5 * VIBRATION_CELL_SAMPLES * cells * law.sample_s + len(bands) * VIBRATION_BAND_S
                + (len(tau) * VIBRATION_TAU_S if peak else 0.0))
     return WorkEstimate((WorkTerm(field, f"the response at {len(tau)} values of τ", seconds),))
+
+
+#: a fitted path (camcore.toolpath): elements per moving segment ≈ FIT_ELEMENTS_PER_STROKE ·
+#: (stroke/tolerance)^(1/3) (a biarc's error grows as the cube of its length: measured 25-34
+#: elements a path for two 20 mm strokes at 1e-3 mm and 1e-4 mm → ×2, 0.8 per stroke-root for
+#: 5 mm strokes over 90° and 30°), plus FIT_ELEMENTS_PER_SEGMENT at each segment's ends and
+#: FIT_ELEMENTS_FIXED per path; the factor is set a little above what was measured
+FIT_ELEMENTS_PER_STROKE = 0.9
+FIT_ELEMENTS_PER_SEGMENT = 4
+FIT_ELEMENTS_FIXED = 8
+#: one path: its curvature and cusp scans and the measurement passes (measured 30-40 ms, one
+#: computation at a time); one element: the greedy search's trials and its measurement both
+#: ways (0.5-0.6 ms with closed-form laws, 4 to 12 segments: ~900 points of the exact curve
+#: evaluated per element, FIT_POINTS_PER_ELEMENT counts them for a slower law); ×1.5
+FIT_PATH_S = 1.5 * 0.04
+FIT_ELEMENT_S = 1.5 * 6e-4
+FIT_POINTS_PER_ELEMENT = 1000
+
+
+def fit_elements_estimate(strokes_mm: Sequence[float], segments: int, tolerance_mm: float) -> int:
+    """How many lines and arcs a path fitted within a tolerance will have, before fitting.
+
+    Parameters
+    ----------
+    strokes_mm : sequence of float
+        The stroke of each moving segment of the lift (a swing as the arc the follower
+        point runs) [mm].
+    segments : int
+        Segments of the lift, dwells included [-].
+    tolerance_mm : float
+        The fitting tolerance [mm].
+
+    Returns
+    -------
+    int
+        The estimated element count of one path [-].
+
+    References
+    ----------
+    Meek and Walton (1992): a biarc's deviation grows as the cube of its length; the
+    measurements beside :data:`FIT_ELEMENTS_PER_STROKE`.
+    """
+    per_stroke = sum((abs(s) / tolerance_mm) ** (1.0 / 3.0) for s in strokes_mm)
+    return int(FIT_ELEMENTS_FIXED + FIT_ELEMENTS_PER_SEGMENT * segments + FIT_ELEMENTS_PER_STROKE * per_stroke)
+
+
+def fit_work(laws: Sequence[LawCost | None], elements: int, paths: int, segments_field: Field,
+             tolerance_field: Field) -> WorkEstimate:
+    """Fitting paths of lines and arcs to a cam (camcore.toolpath), the curves built apart.
+
+    Parameters
+    ----------
+    laws : sequence of LawCost or None
+        Each segment's law (None: a dwell or the default cycloid).
+    elements : int
+        Estimated elements of all paths together (:func:`fit_elements_estimate`) [-].
+    paths : int
+        Paths fitted (walls), each with its checks of the whole turn [-].
+    segments_field, tolerance_field : tuple
+        The request fields of the segments and of the tolerance.
+
+    Returns
+    -------
+    WorkEstimate
+        The checks of each path, and the elements [s].
+
+    References
+    ----------
+    camcore.toolpath.fit; the measurements beside :data:`FIT_ELEMENT_S`.
+    """
+    slowest = max((law.sample_s for law in laws if law is not None), default=CLOSED_FORM_COST.sample_s)
+    checks = checks_work(laws, segments_field).seconds
+    return WorkEstimate((
+        WorkTerm(segments_field, f"the curvature checks of {paths} paths", paths * (checks + FIT_PATH_S)),
+        WorkTerm(tolerance_field, f"fitting about {elements} lines and arcs",
+                 elements * (FIT_ELEMENT_S + 1.5 * FIT_POINTS_PER_ELEMENT
+                             * max(0.0, slowest - CLOSED_FORM_COST.sample_s)))))

@@ -8,6 +8,7 @@
 #     wrk                                   tests/test_bench_smoke.py: the HTTP figures
 #     libreoffice-draw-nogui, -calc-nogui   soffice --headless: Draw renders our DXF, Calc a sheet
 #     nodejs, npm                           the TypeScript client test (only with clients/typescript)
+#     libgl1, libx11-6                      the CAD kernel (cadquery-ocp-novtk) loads libGL and libX11
 #   npm packages: `npm ci` in clients/typescript when its package-lock.json is newer than the
 #   last install.
 # Not root and something missing: one line says what to install, and the exit status is 1.
@@ -31,6 +32,11 @@ missing_packages() {
     if dpkg-query -W -f='${Status}' libreoffice-core 2>/dev/null | grep -q 'ok installed'; then flavor=; fi
     { have soffice && [ -e "$lo_dir/libsdlo.so" ]; } || pkgs+=("libreoffice-draw$flavor")
     { have soffice && [ -e "$lo_dir/libsclo.so" ]; } || pkgs+=("libreoffice-calc$flavor")
+    # the CAD kernel's shared libraries, looked up as the loader finds them
+    local libs
+    libs=$(ldconfig -p 2>/dev/null || true)
+    grep -q 'libGL\.so\.1 ' <<<"$libs" || pkgs+=(libgl1)
+    grep -q 'libX11\.so\.6 ' <<<"$libs" || pkgs+=(libx11-6)
     if [ -f "$TS_DIR/package.json" ]; then
         have node || pkgs+=(nodejs)
         have npm || pkgs+=(npm)

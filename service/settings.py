@@ -48,6 +48,9 @@ class Settings(BaseSettings):
     max_bezier_degree: int = Field(20, ge=1)  # degree 20 at 2e5 samples answers in ~0.5 s here
     max_curve_points: int = Field(10_000, ge=2)
     max_motion_segments: int = Field(100, ge=1, description="segments of a motion program; more: 413")
+    max_toolpath_elements: int = Field(20_000, ge=1, description="lines and arcs of a toolpath or a solid's contour; "
+                                                                 "more: 413")
+    max_stl_triangles: int = Field(1_000_000, ge=1, description="facets of an STL solid; more: 413")
     max_sweep_combinations: int = Field(10000, ge=1, description="designs of one sizing sweep; more: 413")
     max_vibration_tau_values: int = Field(10_000, ge=1, description="τ values of a residual-vibration spectrum; more: 413")
 

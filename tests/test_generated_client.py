@@ -26,15 +26,17 @@ SPEC = ROOT / "openapi" / "openapi.json"
 PACKAGE = "camcore_client"
 pytestmark = pytest.mark.e2e
 
-#: no formatter post-hooks (ruff need not be on PATH); image and DXF answers are bytes (the
-#: generator knows application/json, text/* and application/octet-stream only; the same file
-#: is in docs/ecosystem.md)
+#: no formatter post-hooks (ruff need not be on PATH); image, DXF, STEP and STL answers are bytes
+#: (the generator knows application/json, text/* and application/octet-stream only; the same
+#: file is in docs/ecosystem.md)
 CONFIG = """\
 post_hooks: []
 content_type_overrides:
   image/png: application/octet-stream
   image/svg+xml: application/octet-stream
   application/dxf: application/octet-stream
+  model/step: application/octet-stream
+  model/stl: application/octet-stream
 """
 
 
@@ -210,3 +212,20 @@ def test_download_contour_text_files(api: Any) -> None:
     assert contour.splitlines()[0] == "cam_angle_deg,x_mm,y_mm,z_mm"
     table = module("api.profiles.compute_profile_csv").sync(client=api, body=body)
     assert table.splitlines()[0].startswith("cam_angle_deg,")
+
+
+def test_download_step_solid_and_gcode(api: Any) -> None:
+    # the solid comes back as bytes (model/step mapped to octet-stream), the G-code as text
+    models = module("models")
+    rise = models.SegmentSpec(type_=models.SegmentSpecType.RISE, angle_deg=180, lift_mm=20)
+    back = models.SegmentSpec(type_=models.SegmentSpecType.RETURN, angle_deg=180, lift_mm=20)
+    spec = models.ProfileSpec(follower=models.FollowerSpec(type_=models.FollowerSpecType.ROLLER, roller_radius_mm=10),
+                              base_radius_mm=40, segments=[rise, back])
+    solid = models.SolidSpec(thickness_mm=12, bore_diameter_mm=20)
+    file = module("api.profiles.export_profile_step").sync(client=api, body=models.SolidRequest(profile=spec,
+                                                                                                   solid=solid))
+    data = file.payload.read()
+    assert isinstance(data, bytes) and data.startswith(b"ISO-10303-21;"), data[:40]
+    gcode = module("api.profiles.export_toolpath_gcode").sync(
+        client=api, body=models.ToolpathRequest(profile=spec, tool_radius_mm=6))
+    assert isinstance(gcode, str) and "G17 G21 G90" in gcode and gcode.rstrip().endswith("%")

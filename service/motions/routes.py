@@ -7,14 +7,16 @@ per operation.
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, Body, Depends, Query, Request
 from starlette.responses import Response
 
+from camcore.export import MOTION_FORMATS
 from service.admission import WorkGate
 from service.curves.routes import CSV, CSV_FILE, ERRORS
 from service.deps import motion_service, work_gate
+from service.motions import cam_table
 from service.motions.service import MotionService
 from service.motions.specs import MOTION_EXAMPLES, MotionProgramAnswer, MotionProgramRequest
 from service.responses import check_finite, json_response, table_response, wants_csv
@@ -26,13 +28,22 @@ Gate = Annotated[WorkGate, Depends(work_gate)]
 MotionBody = Annotated[MotionProgramRequest, Body(openapi_examples=MOTION_EXAMPLES)]
 
 
-@router.post("", operation_id="computeMotion", response_model=MotionProgramAnswer, responses={**ERRORS, 200: CSV})
+#: ``?format=``: JSON, the table as CSV, or a file of camcore.export.MOTION_FORMATS
+MotionFormat = Literal[("json", "csv", *MOTION_FORMATS)]  # type: ignore[valid-type]  # built from the registry
+FORMAT_HELP = "csv: the table alone, for spreadsheets; " + "; ".join(
+    f"{fmt.name}: {fmt.description}" for fmt in MOTION_FORMATS.values())
+ANSWERS: dict[str, Any] = {"content": CSV["content"], "description": "Columns as JSON, or CSV: the table, or the cam table"}
+
+
+@router.post("", operation_id="computeMotion", response_model=MotionProgramAnswer, responses={**ERRORS, 200: ANSWERS})
 async def compute_motion(body: MotionBody, request: Request, service: Service, gate: Gate,
-                         format: Annotated[Literal["json", "csv"] | None,
-                                           Query(description="csv: the table alone, for spreadsheets")] = None,
+                         format: Annotated[MotionFormat | None, Query(description=FORMAT_HELP)] = None,
                          ) -> Response:
     """Columns x_deg, s, v, a, j (and per second with speed_rpm), the resolved segments, the
-    joins with their continuity, and the characteristic values over the cycle."""
+    joins with their continuity, and the characteristic values over the cycle; ``?format=cam-table``:
+    the servo drive's cam table."""
+    if format in MOTION_FORMATS:
+        return await cam_table.cam_table_response(request, gate, service, body, MOTION_FORMATS[format])
     csv = format == "csv" or (format is None and wants_csv(request))
     return await _motion(request, gate, service, body, csv)
 
@@ -53,3 +64,6 @@ async def _motion(request: Request, gate: WorkGate, service: MotionService, body
         return table_response(columns, True, filename="motion.csv")
     check_finite(columns)
     return json_response({**columns, **report})
+
+
+cam_table.register(router)

@@ -13,10 +13,11 @@ from typing import Annotated, Any, Literal
 from fastapi import APIRouter, Body, Depends, Query, Request
 from starlette.responses import Response
 
-from camcore.export import FORMATS, ContourFormat
+from camcore.export import FORMATS, SOLID_FORMATS, ContourFormat, FileFormat
 from service.admission import WorkGate
 from service.curves.routes import CSV_FILE, ERRORS
 from service.deps import profile_service, work_gate
+from service.profiles import solids, toolpath
 from service.profiles.service import UNBOUNDED_COLUMNS, ProfileService
 from service.profiles.specs import (
     BASE_CIRCLE_EXAMPLES,
@@ -42,13 +43,19 @@ def _content(fmt: ContourFormat) -> dict[str, Any]:
 
 EXPORTS: dict[str, Any] = {
     "content": {"text/csv": {"schema": {"type": "string"}}}
-    | {key: value for fmt in FORMATS.values() for key, value in _content(fmt).items()},
-    "description": "Columns and checks as JSON; the table as CSV; the contour as DXF or X Y Z text",
+    | {key: value for fmt in FORMATS.values() for key, value in _content(fmt).items()}
+    | {key: value for fmt in SOLID_FORMATS.values() for key, value in _content(fmt).items()},
+    "description": "Columns and checks as JSON; the table as CSV; the contour as DXF or X Y Z text; the solid as "
+                   "STEP or STL",
 }
-#: ``?format=``: the table as JSON or CSV, or a contour download (camcore.export.FORMATS)
-ProfileFormat = Literal[("json", "csv", *FORMATS)]  # type: ignore[valid-type]  # built from the registry
-FORMAT_HELP = " / ".join(FORMATS) + " download the contour:\n\n" + "\n".join(
-    f"- `{fmt.name}` ({fmt.media_type.split(';')[0]}, {fmt.file_name}): {fmt.description}" for fmt in FORMATS.values())
+#: ``?format=``: the table as JSON or CSV, a contour download (camcore.export.FORMATS) or a
+#: solid (camcore.export.SOLID_FORMATS, with ``solid`` in the body)
+ProfileFormat = Literal[("json", "csv", *FORMATS, *SOLID_FORMATS)]  # type: ignore[valid-type]  # from the registries
+_DOWNLOADS: list[FileFormat[Any]] = [*FORMATS.values(), *SOLID_FORMATS.values()]
+FORMAT_HELP = " / ".join(FORMATS) + " download the contour, " + " / ".join(SOLID_FORMATS) + \
+    " the solid (give `solid` in the body):\n\n" + "\n".join(
+    f"- `{fmt.name}` ({fmt.media_type.split(';')[0]}, {fmt.file_name}): {fmt.description}"
+    for fmt in _DOWNLOADS)
 ProfileBody = Annotated[ProfileRequest, Body(openapi_examples=PROFILE_EXAMPLES)]
 
 
@@ -63,6 +70,8 @@ async def compute_profile(
     """Cam surface, pitch curve, lift, pressure angle, radius of curvature, and the checks."""
     if format in FORMATS:
         return await _contour(request, gate, service, body, FORMATS[format])
+    if format in SOLID_FORMATS:
+        return await solids.solid_response(request, gate, service, body, SOLID_FORMATS[format])
     csv = format == "csv" or (format is None and wants_csv(request))
     return await _table(request, gate, service, body, csv)
 
@@ -110,6 +119,8 @@ def _contour_route(fmt: ContourFormat) -> None:
 
 for _fmt in FORMATS.values():
     _contour_route(_fmt)
+solids.register(router)
+toolpath.register(router)
 
 
 @router.post("/base-circle", operation_id="sizeBaseCircle", response_model=BaseCircleAnswer, responses=ERRORS)

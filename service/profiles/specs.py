@@ -173,6 +173,18 @@ class ProfileSpec(Spec):
         return self
 
 
+class SolidSpec(Spec):
+    """The plate cam as a solid (``?format=step`` or ``stl``): extruded along its axis from z = 0."""
+
+    model_config = examples({"thickness_mm": 12, "bore_diameter_mm": 20})
+    thickness_mm: PositiveLength = Field(description="extrusion along the cam axis [mm]")
+    bore_diameter_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, le=BIG)] = Field(
+        0.0, description="bore about the axis, smaller than the cam at its narrowest [mm]; 0: none")
+    tolerance_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-4, le=10)] = Field(
+        0.01, description="largest deviation of the solid's surface from the exact cam surface [mm]: the contour "
+                          "is fitted with lines and arcs within it (an STL: half for the arcs, half for the facets)")
+
+
 class ProfileRequest(Spec):
     model_config = examples(
         {"profile": ROLLER_PROFILE_EXAMPLE, "samples": 361},
@@ -182,6 +194,8 @@ class ProfileRequest(Spec):
     # minItems states the validator's rule in the schema (the validator gives the sentence)
     cam_angle_deg: Annotated[list[Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-1e5, le=1e5)]],
                              Field(json_schema_extra={"minItems": 1})] | None = None
+    solid: SolidSpec | None = Field(None, description="the solid of ?format=step or stl (needed there, unused "
+                                                      "otherwise); the solid is the whole turn whatever the samples")
 
     @model_validator(mode="after")
     def _check(self) -> ProfileRequest:

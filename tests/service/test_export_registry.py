@@ -58,9 +58,9 @@ def test_the_openapi_document_offers_every_registered_format() -> None:
     op = create_app().openapi()["paths"]["/v1/profiles"]["post"]
     (param,) = [p for p in op["parameters"] if p["name"] == "format"]
     enum = next(s["enum"] for s in param["schema"]["anyOf"] if "enum" in s)
-    assert enum == ["json", "csv", *export.FORMATS]
+    assert enum == ["json", "csv", *export.FORMATS, *export.SOLID_FORMATS]
     content = op["responses"]["200"]["content"]
-    for fmt in export.FORMATS.values():
+    for fmt in [*export.FORMATS.values(), *export.SOLID_FORMATS.values()]:
         schema = content[fmt.media_type.split(";")[0]]["schema"]
         assert schema == ({"type": "string"} if fmt.is_text else {"type": "string", "format": "binary"})
         assert f"`{fmt.name}`" in param["description"] and fmt.description in param["description"]

@@ -38,6 +38,8 @@ INDEXER_VIBRATION = {"indexer": INDEXER_EXAMPLE, "inertia_kgm2": 2.25, "stiffnes
 CSV_ACCEPT = {"Accept": "text/csv"}
 SWEEP = {"load": {"inertia_kgm2": 2}, "stops": [6], "indexing_angle_deg": [270], "curves": [{"type": "named", "name": "MS"}],
          "speed_rpm": [30, 60]}
+SOLID = {**PROFILE, "solid": {"thickness_mm": 10, "bore_diameter_mm": 10}}
+TOOLPATH = {"profile": KNIFE_EDGE_PROFILE_EXAMPLE, "tool_radius_mm": 5, "tolerance_mm": 0.01}
 
 # (method, path template, url, body, headers, media type answered)
 CASES: list[tuple[str, str, str, dict[str, Any] | None, dict[str, str], str]] = [
@@ -78,6 +80,17 @@ CASES: list[tuple[str, str, str, dict[str, Any] | None, dict[str, str], str]] = 
     ("POST", "/v1/profiles/dynamics/table.csv", "/v1/profiles/dynamics/table.csv", DYNAMICS, {}, "text/csv"),
     ("GET", "/v1/profiles/dynamics/plot", "/v1/profiles/dynamics/plot?speed_rpm=600&mass_kg=0.5&spring_rate_n_mm=2"
      "&samples=101&format=png", None, {}, "image/png"),
+    ("POST", "/v1/profiles", "/v1/profiles?format=step", SOLID, {}, "model/step"),
+    ("POST", "/v1/profiles", "/v1/profiles?format=stl", SOLID, {}, "model/stl"),
+    ("POST", "/v1/profiles/solid.step", "/v1/profiles/solid.step", SOLID, {}, "model/step"),
+    ("POST", "/v1/profiles/solid.stl", "/v1/profiles/solid.stl", SOLID, {}, "model/stl"),
+    ("POST", "/v1/profiles/toolpath", "/v1/profiles/toolpath", TOOLPATH, {}, "application/json"),
+    ("POST", "/v1/profiles/toolpath", "/v1/profiles/toolpath", {**TOOLPATH, "format": "gcode"}, {}, "text/x-gcode"),
+    ("POST", "/v1/profiles/toolpath", "/v1/profiles/toolpath", {**TOOLPATH, "format": "dxf"}, {}, "application/dxf"),
+    ("POST", "/v1/profiles/toolpath.nc", "/v1/profiles/toolpath.nc", TOOLPATH, {}, "text/x-gcode"),
+    ("POST", "/v1/profiles/toolpath.dxf", "/v1/profiles/toolpath.dxf", TOOLPATH, {}, "application/dxf"),
+    ("POST", "/v1/motions", "/v1/motions?format=cam-table", PROGRAM, {}, "text/csv"),
+    ("POST", "/v1/motions/cam-table.csv", "/v1/motions/cam-table.csv", PROGRAM, {}, "text/csv"),
     ("GET", "/v1/curves/{name}/plot", "/v1/curves/MS/plot?samples=101", None, {}, "image/svg+xml"),
     ("GET", "/v1/curves/{name}/plot", "/v1/curves/MS/plot?samples=101&format=png", None, {}, "image/png"),
     ("GET", "/v1/indexers/plot", "/v1/indexers/plot?stops=6&indexing_angle_deg=270&speed_rpm=60&samples=101&format=png",
@@ -134,14 +147,17 @@ def test_json_answers_keep_their_models_and_come_first() -> None:
 
 def test_file_twins_answer_only_their_file() -> None:
     twins = {path: ops["post"] if "post" in ops else ops["get"] for path, ops in DOC["paths"].items()
-             if path.endswith((".csv", ".dxf", ".xyz"))}
-    assert len(twins) == 14, sorted(twins)
+             if path.endswith((".csv", ".dxf", ".xyz", ".step", ".stl", ".nc"))}
+    # the 12 table and contour files, the 2 vibration tables, the cam table, the toolpath's G-code
+    # and DXF, the two solids
+    assert len(twins) == 19, sorted(twins)
     for path, op in twins.items():
         content = op["responses"]["200"]["content"]
         assert len(content) == 1, (path, list(content))
-        # binary for DXF (a generator hands back bytes), text for CSV and X Y Z
+        # binary for DXF, STEP and STL (a generator hands back bytes), text for CSV, X Y Z, G-code
         media, entry = next(iter(content.items()))
-        assert entry["schema"] == ({"type": "string", "format": "binary"} if media == "application/dxf"
+        binary = media in ("application/dxf", "model/step", "model/stl")
+        assert entry["schema"] == ({"type": "string", "format": "binary"} if binary
                                    else {"type": "string"}), (path, entry)
 
 

@@ -23,7 +23,9 @@ from service.indexers import specs as indexer_schemas
 from service.indexers import sweep as sweep_schemas
 from service.motions import specs as motion_schemas
 from service.profiles import dynamics_specs as dynamics_schemas
+from service.profiles import solids as solid_schemas
 from service.profiles import specs as profile_schemas
+from service.profiles import toolpath as toolpath_schemas
 from service.vibration import specs as vibration_schemas
 from service.app import create_app
 
@@ -129,7 +131,7 @@ def request_side_schemas() -> set[str]:
 def model_classes() -> dict[str, type[BaseModel]]:
     out: dict[str, type[BaseModel]] = {}
     for module in (schemas, dynamics_schemas, indexer_schemas, sweep_schemas, motion_schemas, profile_schemas,
-                   vibration_schemas):
+                   vibration_schemas, solid_schemas, toolpath_schemas):
         for value in vars(module).values():
             if isinstance(value, type) and issubclass(value, BaseModel):
                 out[value.__name__] = value

@@ -416,6 +416,12 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
     "give max_pressure_angle_deg and/or min_radius_of_curvature_mm (a flat-faced follower may give neither)": (
         [base_circle(ROLLER, max_pressure_angle_deg=30), base_circle({"type": "flat-faced"})],
         [(base_circle(ROLLER), "give max_pressure_angle_deg and/or min_radius_of_curvature_mm")]),
+    # toolpaths
+    "a groove is the track of a roller: give a roller follower": (
+        [("/v1/profiles/toolpath", {"profile": profile(), "tool_radius_mm": 6, "side": "groove"}),
+         ("/v1/profiles/toolpath", {"profile": profile({"type": "knife-edge"}), "tool_radius_mm": 6, "side": "inside"})],
+        [(("/v1/profiles/toolpath", {"profile": profile({"type": "knife-edge"}), "tool_radius_mm": 6,
+                                     "side": "groove"}), "a groove is the track of a roller")]),
 }
 
 
@@ -509,6 +515,11 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     "displacement S is not monotone over its stroke", "the curve must move", "is outside the index",
     "do not determine a polynomial of degree",
     "One cam turn is", "The arm cannot be assembled",
+    # a toolpath: the tool against the cam's curvature or its roller (two numbers of different
+    # objects compared), the heights compared, and what the fit turns out to need
+    "is larger than the concave radius of curvature", "is undercut at cam angle", "has a sharp corner at cam angle",
+    "a flat face cannot follow that corner", "is wider than the roller's track", "cut_z_mm must be below safe_z_mm",
+    "the path could not be fitted within",
     # a motion program: its spans summed, two of its segments together (JSON Schema compares no two
     # items), and what it turns out to be once resolved (strokes, solved T4, matched laws)
     "but they must add up to period_deg", "vanishes against the master angle",

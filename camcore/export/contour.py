@@ -1,27 +1,28 @@
-"""Export a cam contour for CAD and spreadsheets: CSV, plain "X Y Z" text, DXF.
+"""The contour downloads: CSV, plain "X Y Z" text, DXF.
 
 All functions take the contour as x, y arrays in millimetres (the cam's own frame,
 e.g. ``ProfileResult.x_mm, y_mm``). A repeated closing point (last = first within 1e-9 of the contour size, as from
 ``sample_profile`` over 0–360° with both ends) is dropped where a closed entity is
 written, so a DXF polyline has one vertex per distinct point.
 
-:data:`FORMATS` is the registry of download formats: each entry names a format and gives
-its writer, media type, file name and a one-line description. Everything that offers a
-download (the service's ``?format=`` values, answer headers, the OpenAPI document) is read
-from it, so a new format is one entry here.
+:data:`FORMATS` is the registry of contour downloads (:mod:`camcore.export` for all of them):
+each entry names a format and gives its writer, media type, file name and a one-line
+description. Everything that offers a download (the service's ``?format=`` values, answer
+headers, the OpenAPI document) is read from it, so a new format is one entry here.
 """
 
 from __future__ import annotations
 
 import io
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .errors import InvalidParameterError
+from ..errors import InvalidParameterError
+from .registry import FileFormat
 
 if TYPE_CHECKING:
     from ezdxf.document import Drawing
@@ -242,40 +243,6 @@ class Contour:
     base_radius_mm: float | None = None
 
 
-@dataclass(frozen=True)
-class ContourFormat:
-    """One download format of a contour: one entry of :data:`FORMATS`.
-
-    Attributes
-    ----------
-    name : str
-        The format's name (the service's ``?format=`` value).
-    media_type : str
-        Its media (MIME) type, with the charset of a text format.
-    file_name : str
-        The file name a download suggests.
-    description : str
-        One line for users: what the file holds and what reads it.
-    write : callable
-        ``write(contour) -> bytes``: the file's content.
-    cost : callable
-        ``cost(points) -> seconds``: the time to write a contour of that many points on
-        camcore.work's reference machine (an upper estimate).
-    """
-
-    name: str
-    media_type: str
-    file_name: str
-    description: str
-    write: Callable[[Contour], bytes]
-    cost: Callable[[int], float]
-
-    @property
-    def is_text(self) -> bool:
-        """Whether the file is text for every reader (``text/*``)."""
-        return self.media_type.startswith("text/")
-
-
 def _write_dxf(c: Contour) -> bytes:
     return contour_dxf(c.x_mm, c.y_mm, spline=True, base_radius_mm=c.base_radius_mm)
 
@@ -296,17 +263,17 @@ def _dxf_cost(points: int) -> float:
 
 
 #: the download formats of a contour, by name (the order is the order users see)
-FORMATS: dict[str, ContourFormat] = {f.name: f for f in (
-    ContourFormat("dxf", "application/dxf", "cam.dxf",
+FORMATS: dict[str, FileFormat[Contour]] = {f.name: f for f in (
+    FileFormat("dxf", "application/dxf", "cam.dxf",
                   "AutoCAD 2010 DXF in mm: layer CAM a closed polyline through the points, CAM_SPLINE a fitted "
                   "spline, CAM_BASE the base circle", _write_dxf, _dxf_cost),
-    ContourFormat("xyz", "text/plain; charset=utf-8", "cam.xyz",
+    FileFormat("xyz", "text/plain; charset=utf-8", "cam.xyz",
                   "one 'X Y Z' line per point (mm, z = 0, closed, no header) for CAD curve-through-points import",
                   _write_xyz, lambda points: 1.5e-6 * points),
-    ContourFormat("contour-csv", "text/csv; charset=utf-8", "cam_contour.csv",
+    FileFormat("contour-csv", "text/csv; charset=utf-8", "cam_contour.csv",
                   "CSV with header cam_angle_deg,x_mm,y_mm,z_mm (z = 0) for spreadsheets and CMM software",
                   _write_csv, lambda points: 3.3e-6 * points),
 )}
 
 
-__all__ = ["FORMATS", "Contour", "ContourFormat", "contour_csv", "contour_dxf", "contour_xyz"]
+__all__ = ["FORMATS", "Contour", "contour_csv", "contour_dxf", "contour_xyz"]

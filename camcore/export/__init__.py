@@ -1,0 +1,26 @@
+"""Files for CAD, CAM, spreadsheets and drives: one registry of formats per kind of thing written.
+
+* :data:`FORMATS`: the contour as points (CSV, X Y Z text, DXF), :mod:`.contour`;
+* :data:`SOLID_FORMATS`: the plate cam as a solid (STEP, STL) from the OpenCASCADE kernel, :mod:`.solid`;
+* :data:`TOOLPATH_FORMATS`: the cutter-centre path (G-code, DXF of lines and arcs), :mod:`.toolpath`;
+* :data:`MOTION_FORMATS`: a motion program as a servo drive's cam table (CSV), :mod:`.cam_table`.
+
+Each entry is a :class:`FileFormat` (name, writer, media type, file name, description, cost);
+the service reads its ``?format=`` values, answer headers and OpenAPI media types from these
+registries, so a new format is one entry.
+"""
+
+from .cam_table import MOTION_FORMATS, CamTable, cam_table_csv
+from .contour import FORMATS, Contour, contour_csv, contour_dxf, contour_xyz
+from .registry import FileFormat
+from .solid import SOLID_FORMATS, SolidCam, solid_step, solid_stl
+from .toolpath import TOOLPATH_FORMATS, ToolpathFile, toolpath_dxf, toolpath_gcode
+
+#: a contour download (the registry entry's older name)
+ContourFormat = FileFormat
+
+__all__ = [
+    "FORMATS", "MOTION_FORMATS", "SOLID_FORMATS", "TOOLPATH_FORMATS", "CamTable", "Contour", "ContourFormat",
+    "FileFormat", "SolidCam", "ToolpathFile", "cam_table_csv", "contour_csv", "contour_dxf", "contour_xyz",
+    "solid_step", "solid_stl", "toolpath_dxf", "toolpath_gcode",
+]

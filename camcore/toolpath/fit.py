@@ -1,0 +1,324 @@
+"""Fitting a stretch of the exact cutter curve with biarcs, and measuring how far apart they are.
+
+The fit is greedy (longest first): from the start of a stretch, the end of each biarc is
+pushed as far along a fine grid of cam angles as the tolerance allows (grown by doubling,
+then bisected), so the path has few elements. Each biarc is then *measured* against the
+exact curve both ways, and a biarc that misses the tolerance is fitted again tighter:
+
+* curve → path: the distance of the exact curve P(θ) from the biarc over its whole stretch
+  of θ: sampled, and every sampled local maximum refined by golden section in θ (so the
+  largest distance between the sample points is found, not only at them);
+* path → curve: the distance of the biarc's points from the exact curve (each point's foot
+  on the curve by Gauss-Newton from the nearest sample), sampled along each element and
+  the largest refined by golden section along the element.
+
+Both are one-sided Hausdorff distances; the larger is the biarc's deviation.
+
+References
+----------
+.. [1] D. S. Meek, D. J. Walton, "Approximation of discrete data by G1 arc splines",
+   Computer-Aided Design 24 (1992) 301-306 (biarcs fitted to data within a tolerance).
+.. [2] J. Kiefer, "Sequential minimax search for a maximum", Proc. AMS 4 (1953) 502-506.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._solvers import golden_max
+from ..curves.base import FloatArray
+from ..deadline import checkpoint
+from ..errors import GeometryError, LimitExceededError
+from .geometry import Element, ElementArrays, biarc
+from .offset import LEFT_LIMIT_RAD, OffsetCurve
+
+#: samples per biarc (over its stretch of θ) and per element (along it) for the measurement
+MEASURE_SAMPLES = 32
+#: the greedy search aims at this fraction of the tolerance, so the measurement between the
+#: grid points (which the search does not see) rarely sends a biarc back
+AIM = 0.8
+#: a stretch narrower than this is closed with a line whatever it deviates (a cusp of a
+#: gouging path, where the tangent turns back): 1e-10 rad moves a point by ~1e-8 mm
+NARROWEST_RAD = 1e-10
+#: Gauss-Newton steps of a foot point: each multiplies the error by ~|P − X|·κ ≤ 1e-2
+FOOT_STEPS = 5
+
+
+@dataclass(frozen=True)
+class Span:
+    """Elements that stand for the exact curve between two cam angles (equal for a corner arc)."""
+
+    theta0: float
+    theta1: float
+    elements: tuple[Element, ...]
+
+
+class Budget:
+    """Counts the elements made and stops the fit over ``limit`` (413)."""
+
+    def __init__(self, limit: int):
+        self.limit = limit
+        self.count = 0
+
+    def add(self, n: int) -> None:
+        self.count += n
+        if self.count > self.limit:
+            raise LimitExceededError("toolpath elements", self.count, self.limit, field=("tolerance_mm",))
+
+
+def fit_stretch(curve: OffsetCurve, theta0: float, theta1: float, start: tuple[FloatArray, FloatArray],
+                end: tuple[FloatArray, FloatArray], tolerance_mm: float, step_rad: float,
+                budget: Budget) -> tuple[list[Span], float]:
+    """Biarcs within ``tolerance_mm`` of a regular stretch θ0 … θ1 of the exact curve.
+
+    Parameters
+    ----------
+    curve : OffsetCurve
+        The exact curve.
+    theta0, theta1 : float
+        The stretch, θ0 < θ1, with no corner or cusp inside [rad].
+    start, end : (ndarray, ndarray)
+        The point [mm] and the unit travel tangent [-] at each end (their one-sided limits).
+    tolerance_mm : float
+        Largest deviation allowed, measured both ways [mm].
+    step_rad : float
+        Spacing of the grid the greedy search picks biarc ends from [rad].
+    budget : Budget
+        The element count and its limit.
+
+    Returns
+    -------
+    (list of Span, float)
+        Consecutive biarcs (or lines) from θ0 to θ1, each measured within the tolerance, and
+        the largest deviation measured [mm].
+
+    References
+    ----------
+    Meek and Walton (1992), arc splines within a tolerance; Kiefer (1953), golden section.
+    """
+    spans = _greedy(curve, theta0, theta1, start, end, AIM * tolerance_mm, step_rad, budget)
+    for tighter in range(1, 8):
+        deviation = measure(curve, spans)
+        if float(deviation.max(initial=0.0)) <= tolerance_mm:
+            return spans, float(deviation.max(initial=0.0))
+        checkpoint()
+        refitted: list[Span] = []
+        for span, dev in zip(spans, deviation):
+            if dev <= tolerance_mm:
+                refitted.append(span)
+                continue
+            # fitted again over its own stretch, aiming lower, from a grid 8 times finer
+            budget.add(-len(span.elements))
+            a = (np.asarray(span.elements[0].start), _tangent_from(curve, span.theta0, 1.0))
+            b = (np.asarray(span.elements[-1].end), _tangent_from(curve, span.theta1, -1.0))
+            refitted += _greedy(curve, span.theta0, span.theta1, a, b, AIM * tolerance_mm * 0.5 ** tighter,
+                                (span.theta1 - span.theta0) / 8, budget)
+        spans = refitted
+    raise GeometryError(f"the path could not be fitted within {tolerance_mm!r} mm between cam angles "
+                        f"{math.degrees(theta0)!r}° and {math.degrees(theta1)!r}°.", field=("tolerance_mm",))
+
+
+def _tangent_from(curve: OffsetCurve, theta: float, side: float) -> FloatArray:
+    """The unit travel tangent at θ, taken just inside the stretch (side +1: after θ, −1: before)."""
+    _, _, tx, ty, _ = curve.travel(np.array([theta + side * 1e3 * NARROWEST_RAD]))
+    return np.array([tx[0], ty[0]])
+
+
+def _greedy(curve: OffsetCurve, theta0: float, theta1: float, start: tuple[FloatArray, FloatArray],
+            end: tuple[FloatArray, FloatArray], aim_mm: float, step_rad: float, budget: Budget) -> list[Span]:
+    n = max(2, math.ceil((theta1 - theta0) / step_rad))
+    theta = np.linspace(theta0, theta1, n + 1)
+    x, y, tx, ty, _ = curve.travel(theta)
+    px, py = x.copy(), y.copy()
+    px[0], py[0], px[-1], py[-1] = start[0][0], start[0][1], end[0][0], end[0][1]
+    tx[0], ty[0], tx[-1], ty[-1] = start[1][0], start[1][1], end[1][0], end[1][1]
+    pts = np.column_stack([px, py])
+    tan = np.column_stack([tx, ty])
+
+    def trial(i: int, j: int) -> tuple[Element, ...] | None:
+        pair = biarc(pts[i], tan[i], pts[j], tan[j], float(theta[i]), float(theta[j]))
+        if pair is None:
+            return None
+        xs, ys = px[i:j + 1], py[i:j + 1]
+        dist = np.minimum(pair[0].distance(xs, ys), pair[1].distance(xs, ys))
+        return pair if float(dist.max()) <= aim_mm else None
+
+    spans: list[Span] = []
+    i, guess = 0, 8
+    while i < n:
+        checkpoint()
+        good, good_fit, bad = i, None, n + 1
+        j = min(n, i + guess)
+        fit = trial(i, j)
+        if fit is not None:  # grow by doubling until it fails or reaches the end
+            good, good_fit = j, fit
+            while good < n:
+                j = min(n, i + 2 * (good - i))
+                fit = trial(i, j)
+                if fit is None:
+                    bad = j
+                    break
+                good, good_fit = j, fit
+        else:  # shrink by halving until one fits
+            bad = j
+            while good_fit is None and bad - i > 1:
+                j = i + (bad - i) // 2
+                fit = trial(i, j)
+                if fit is None:
+                    bad = j
+                else:
+                    good, good_fit = j, fit
+        while good_fit is not None and bad <= n and bad - good > 1:  # bisect between the two
+            j = (good + bad) // 2
+            fit = trial(i, j)
+            if fit is None:
+                bad = j
+            else:
+                good, good_fit = j, fit
+        if good_fit is None:  # not even one grid step: split that step in θ
+            spans += _split(curve, float(theta[i]), float(theta[i + 1]), (pts[i], tan[i]), (pts[i + 1], tan[i + 1]),
+                            aim_mm, budget)
+            i += 1
+            continue
+        budget.add(len(good_fit))
+        spans.append(Span(float(theta[i]), float(theta[good]), good_fit))
+        guess = max(1, good - i)
+        i = good
+    return spans
+
+
+def _split(curve: OffsetCurve, theta0: float, theta1: float, start: tuple[FloatArray, FloatArray],
+           end: tuple[FloatArray, FloatArray], aim_mm: float, budget: Budget) -> list[Span]:
+    """Biarcs over one grid step that no single biarc fits, by halving it (near a cusp)."""
+    checkpoint()
+    if theta1 - theta0 <= NARROWEST_RAD:
+        budget.add(1)
+        line = Element((float(start[0][0]), float(start[0][1])), (float(end[0][0]), float(end[0][1])), None, True,
+                       theta0, theta1)
+        return [Span(theta0, theta1, (line,))]
+    inside = np.linspace(theta0, theta1, 17)[1:-1]
+    xs, ys = curve.points(inside)
+    pair = biarc(start[0], start[1], end[0], end[1], theta0, theta1)
+    if pair is not None:
+        dist = np.minimum(pair[0].distance(xs, ys), pair[1].distance(xs, ys))
+        if float(dist.max()) <= aim_mm:
+            budget.add(2)
+            return [Span(theta0, theta1, pair)]
+    mid = 0.5 * (theta0 + theta1)
+    mx, my, mtx, mty, _ = curve.travel(np.array([mid]))
+    middle = (np.array([mx[0], my[0]]), np.array([mtx[0], mty[0]]))
+    return (_split(curve, theta0, mid, start, middle, aim_mm, budget)
+            + _split(curve, mid, theta1, middle, end, aim_mm, budget))
+
+
+def measure(curve: OffsetCurve, spans: list[Span]) -> FloatArray:
+    """The deviation of each span from the exact curve, both ways, refined between samples.
+
+    Parameters
+    ----------
+    curve : OffsetCurve
+        The exact curve.
+    spans : list of Span
+        Spans over stretches θ0 < θ1 of the curve (corner arcs, θ0 = θ1, are exact and get 0).
+
+    Returns
+    -------
+    ndarray
+        max(curve → span, span → curve) of each span [mm].
+
+    References
+    ----------
+    Kiefer (1953), golden-section search; the Gauss-Newton foot point of a point on a curve.
+    """
+    out = np.zeros(len(spans))
+    live = [k for k, s in enumerate(spans) if s.theta1 > s.theta0]
+    if not live:
+        return out
+    checkpoint()
+    elements = [e for k in live for e in spans[k].elements]
+    arrays = ElementArrays(elements)
+    first = np.cumsum([0] + [len(spans[k].elements) for k in live])[:-1]
+    last = first + np.array([len(spans[k].elements) - 1 for k in live])
+    # one-sided: a span that ends at a corner sees the curve's limit there, not the next stretch
+    lo = np.array([spans[k].theta0 for k in live]) + LEFT_LIMIT_RAD
+    hi = np.array([spans[k].theta1 for k in live]) - LEFT_LIMIT_RAD
+    m = MEASURE_SAMPLES
+    # curve → path: the distance from the span's elements (a biarc: the nearer of its two arcs)
+    frac = np.linspace(0.0, 1.0, m)
+    theta = lo[:, None] + (hi - lo)[:, None] * frac[None, :]
+    lanes = np.repeat(np.arange(len(live)), m)
+
+    def to_path(lane: np.ndarray, t: FloatArray) -> FloatArray:
+        x, y = curve.points(t)
+        return np.minimum(arrays.distance(first[lane], x, y), arrays.distance(last[lane], x, y))
+
+    samples = to_path(lanes, theta.reshape(-1)).reshape(len(live), m)
+    forward = samples.max(axis=1)
+    rows, cols = _local_maxima(samples)
+    if rows.size:
+        a = theta[rows, np.maximum(cols - 1, 0)]
+        b = theta[rows, np.minimum(cols + 1, m - 1)]
+        _, refined = golden_max(lambda t: to_path(rows, t), a, b, width=1e-9)
+        np.maximum.at(forward, rows, refined)
+    # path → curve: each element's points, their feet on the curve (within the span's θ)
+    owner = np.repeat(np.arange(len(live)), [len(spans[k].elements) for k in live])
+    count = len(elements)
+    u = np.tile(frac, count)
+    lane_e = np.repeat(np.arange(count), m)
+    px, py = arrays.point(lane_e, u)
+    guess = _nearest_sample(theta[owner[lane_e]], *curve.points(theta.reshape(-1)), m, owner[lane_e], px, py)
+    lo_e, hi_e = lo[owner[lane_e]], hi[owner[lane_e]]
+    back_samples = _foot_distance(curve, px, py, guess, lo_e, hi_e).reshape(count, m)
+    backward = back_samples.max(axis=1)
+    best = np.argmax(back_samples, axis=1)
+    ua = frac[np.maximum(best - 1, 0)]
+    ub = frac[np.minimum(best + 1, m - 1)]
+    start_guess = guess.reshape(count, m)[np.arange(count), best]
+    idx = np.arange(count)
+
+    def to_curve(lane: np.ndarray, uu: FloatArray) -> FloatArray:
+        x, y = arrays.point(lane, uu)
+        return _foot_distance(curve, x, y, start_guess[lane], lo[owner[lane]], hi[owner[lane]])
+
+    _, refined_back = golden_max(lambda uu: to_curve(idx, uu), ua, ub, width=1e-7)
+    backward = np.maximum(backward, refined_back)
+    per_span = np.zeros(len(live))
+    np.maximum.at(per_span, owner, backward)
+    out[live] = np.maximum(forward, per_span)
+    return out
+
+
+def _local_maxima(samples: FloatArray) -> tuple[np.ndarray, np.ndarray]:
+    """Row and column of every sample not below its neighbours (the ends included)."""
+    padded = np.pad(samples, ((0, 0), (1, 1)), constant_values=-np.inf)
+    peak = (samples >= padded[:, :-2]) & (samples >= padded[:, 2:])
+    rows, cols = np.nonzero(peak)
+    return rows, cols
+
+
+def _nearest_sample(theta: FloatArray, cx: FloatArray, cy: FloatArray, m: int, owner: np.ndarray,
+                    px: FloatArray, py: FloatArray) -> FloatArray:
+    """For each point, the θ of the nearest of its span's curve samples."""
+    sx = cx.reshape(-1, m)[owner]
+    sy = cy.reshape(-1, m)[owner]
+    k = np.argmin(np.hypot(sx - px[:, None], sy - py[:, None]), axis=1)
+    return theta[np.arange(theta.shape[0]), k]
+
+
+def _foot_distance(curve: OffsetCurve, px: FloatArray, py: FloatArray, theta: FloatArray, lo: FloatArray,
+                   hi: FloatArray) -> FloatArray:
+    """Distance of each point from the curve near θ: Gauss-Newton on (P(θ) − X)·P'(θ) = 0,
+    kept within [lo, hi]; any curve point bounds the distance from above, so a foot that
+    stops at an end still gives an upper bound."""
+    t = theta.copy()
+    for _ in range(FOOT_STEPS):
+        x, y, tx, ty, stretch = curve.sample(t)
+        dx, dy = x - px, y - py
+        speed2 = stretch * stretch
+        step = np.where(speed2 > 0, (dx * tx + dy * ty) * stretch / np.where(speed2 > 0, speed2, 1.0), 0.0)
+        t = np.clip(t - step, lo, hi)
+    x, y = curve.points(t)
+    return np.hypot(x - px, y - py)

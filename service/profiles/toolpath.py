@@ -1,0 +1,260 @@
+"""POST /v1/profiles/toolpath: the cutter-centre path of a plate cam as lines and arcs.
+
+``computeToolpath`` answers JSON (the elements, the measured deviation) or, with the body's
+``format``, a file of :data:`camcore.export.TOOLPATH_FORMATS` (G-code, DXF); each file also
+has an operation of its own (``/toolpath.nc``, ``/toolpath.dxf``) whose only answer is that
+file, for generated clients. :func:`register` adds the routes to the profiles router.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Any, Literal
+
+from fastapi import APIRouter, Body, Depends, Request
+from fastapi.openapi.models import Example
+from pydantic import BaseModel, Field, model_validator
+from starlette.responses import Response
+
+from camcore.export import TOOLPATH_FORMATS, FileFormat, ToolpathFile
+from camcore.toolpath import Toolpath, compute_toolpath
+from camcore.work import WorkEstimate, WorkTerm, fit_elements_estimate, fit_work
+from service.admission import WorkGate
+from service.curves.routes import ERRORS
+from service.deps import profile_service, work_gate
+from service.profiles.service import ProfileService
+from service.profiles.specs import ROLLER_PROFILE_EXAMPLE, ProfileSpec
+from service.responses import encode_cost, json_response
+from service.specs import BIG, DefaultsInDescriptions, Spec, examples, one_of_values, rule
+
+Service = Annotated[ProfileService, Depends(profile_service)]
+Gate = Annotated[WorkGate, Depends(work_gate)]
+
+#: numbers of one element in the JSON answer (ends, centre, radius)
+ELEMENT_VALUES = 7
+
+#: a roller follower (the condition of a groove)
+ROLLER = {"properties": {"follower": {"required": ["type"], "properties": {"type": {"const": "roller"}}}},
+          "required": ["follower"]}
+
+
+class ToolpathRequest(Spec):
+    """A cam, a tool and a tolerance: the path its centre runs, fitted with lines and arcs."""
+
+    model_config = examples(
+        {"profile": ROLLER_PROFILE_EXAMPLE, "tool_radius_mm": 6, "tolerance_mm": 0.01},
+        rules=[rule("a groove is the track of a roller: give a roller follower",
+                    {"if": one_of_values("side", "groove"), "then": {"properties": {"profile": ROLLER}}})])
+    profile: ProfileSpec
+    tool_radius_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=BIG)] = Field(
+        description="radius of the cutter [mm]")
+    tolerance_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-4, le=10)] = Field(
+        0.01, description="largest deviation of the lines and arcs from the exact cutter-centre path, measured both "
+                          "ways [mm]")
+    side: Literal["outside", "inside", "groove"] = Field(
+        "outside", description="outside: the tool outside the cam surface (a plate cam); inside: inside a roller "
+                               "track's outer wall (or inside the surface of a knife-edge or flat-faced cam: a "
+                               "pocket); groove: both walls of a roller's track, one path each")
+    allow_gouge: bool = Field(False, description="follow the exact offset where the tool is larger than a concave "
+                                                 "radius it must follow (the tool cuts into the wall) instead of "
+                                                 "refusing (422)")
+    feed_mm_min: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=BIG)] = Field(
+        300.0, description="cutting feed of the G-code [mm/min]")
+    safe_z_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BIG)] = Field(
+        5.0, description="height of the G-code's rapid moves [mm]")
+    cut_z_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BIG)] = Field(
+        0.0, description="cutting depth of the G-code, below safe_z_mm [mm]")
+    lead_in_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, le=BIG)] | None = Field(
+        None, description="length of the straight lead-in along the normal [mm]; omitted: the tool radius (in a "
+                          "roller's track: to its centre line, roller radius − tool radius)")
+    format: Literal[("json", *TOOLPATH_FORMATS)] = Field(  # type: ignore[valid-type]  # built from the registry
+        "json", description="json: the elements; " + "; ".join(f"{f.name}: {f.description}"
+                                                               for f in TOOLPATH_FORMATS.values()))
+
+    @model_validator(mode="after")
+    def _check(self) -> ToolpathRequest:
+        if self.side == "groove" and self.profile.follower.type != "roller":
+            raise ValueError("a groove is the track of a roller: give a roller follower")
+        if self.cut_z_mm >= self.safe_z_mm:
+            raise ValueError("cut_z_mm must be below safe_z_mm (the rapid moves run above the cut)")
+        return self
+
+
+FLAT_PROFILE_EXAMPLE: dict[str, object] = {
+    "follower": {"type": "flat-faced"}, "base_radius_mm": 40,
+    "segments": [{"type": "rise", "angle_deg": 150, "lift_mm": 15}, {"type": "dwell", "angle_deg": 30},
+                 {"type": "return", "angle_deg": 150, "lift_mm": 15}, {"type": "dwell", "angle_deg": 30}]}
+#: request examples of computeToolpath (Swagger UI pre-fills the first)
+TOOLPATH_EXAMPLES: dict[str, Example] = {
+    "outside": {"summary": "plate cam, roller follower: a 6 mm tool outside the surface, within 0.01 mm",
+                "value": {"profile": ROLLER_PROFILE_EXAMPLE, "tool_radius_mm": 6, "tolerance_mm": 0.01}},
+    "groove": {"summary": "the same cam as a groove: both walls of the roller's track with an 8 mm tool "
+                          "(\"format\": \"gcode\" for the program)",
+               "value": {"profile": ROLLER_PROFILE_EXAMPLE, "tool_radius_mm": 8, "tolerance_mm": 0.005,
+                         "side": "groove", "feed_mm_min": 250, "cut_z_mm": -10}},
+    "flat": {"summary": "a flat-faced follower's cam within 0.001 mm (\"format\": \"dxf\" for the drawing)",
+             "value": {"profile": FLAT_PROFILE_EXAMPLE, "tool_radius_mm": 10, "tolerance_mm": 0.001}},
+}
+
+
+class ElementAnswer(BaseModel):
+    """One line or arc of a path, in the cam's frame."""
+
+    type: Literal["line", "arc"]
+    x0_mm: float = Field(description="start x")
+    y0_mm: float = Field(description="start y")
+    x1_mm: float = Field(description="end x")
+    y1_mm: float = Field(description="end y")
+    cx_mm: float | None = Field(description="arc centre x (null for a line)")
+    cy_mm: float | None = Field(description="arc centre y (null for a line)")
+    radius_mm: float | None = Field(description="arc radius (null for a line)")
+    direction: Literal["cw", "ccw"] | None = Field(description="arc sense seen from +z: cw = G2, ccw = G3 (null for "
+                                                               "a line)")
+
+
+class CutterPathAnswer(BaseModel):
+    """The closed cutter-centre path of one wall, starting at cam angle 0."""
+
+    wall: Literal["surface", "outer-wall"] = Field(description="the cam surface, or a roller track's outer wall")
+    side: Literal["outside", "inside"] = Field(description="the tool outside or inside that wall")
+    clockwise: bool = Field(description="the sense of travel: climb milling with M3, clockwise round an outside")
+    offset_mm: float = Field(description="the path's offset from the pitch curve (a flat face: from the surface) "
+                                         "along the outward normal")
+    max_deviation_mm: float = Field(description="measured against the exact cutter-centre path, both ways")
+    segments_count: int = Field(description="lines and arcs")
+    length_mm: float = Field(description="length of the path")
+    min_concave_radius_mm: float | None = Field(
+        description="smallest concave radius of curvature the tool follows on this wall (null: none)")
+    min_concave_radius_at_deg: float | None = Field(description="cam angle of that radius")
+    gouges: bool = Field(description="the tool is larger than that radius (only with allow_gouge)")
+    lead_in_mm: float = Field(description="the lead-in's default length on this wall")
+    elements: list[ElementAnswer]
+
+
+class ToolpathAnswer(DefaultsInDescriptions):
+    """The cutter-centre paths of the walls asked for, fitted with lines and arcs."""
+
+    tool_radius_mm: float
+    tolerance_mm: float
+    side: Literal["outside", "inside", "groove"]
+    max_deviation_mm: float = Field(description="largest measured deviation of any path (≤ tolerance_mm)")
+    segments_count: int = Field(description="lines and arcs of all paths")
+    paths: list[CutterPathAnswer]
+
+
+def strokes_mm(spec: ProfileSpec) -> list[float]:
+    """The stroke of each moving segment in mm (a swing as the arc of the arm, or of the
+    pivot distance for a flat face); a lift curve counts as 8 strokes of the base radius, a
+    motion program's move as one (its strokes may be solved, so unknown before it runs)."""
+    if spec.motion is not None:
+        return [spec.base_radius_mm for s in spec.motion.segments if s.type != "dwell"]
+    if spec.segments is None:
+        return [spec.base_radius_mm] * 8
+    arm = spec.follower.arm_length_mm or spec.follower.pivot_distance_mm or 1.0
+    return [s.lift_mm if s.lift_mm is not None else arm * math.radians(s.swing_deg or 0.0)
+            for s in spec.segments if s.type != "dwell"]
+
+
+def schedule(spec: ProfileSpec) -> tuple[int, tuple[str, ...]]:
+    """The lift schedule's segment count (a lift curve: 8) and its request field."""
+    if spec.motion is not None:
+        return len(spec.motion.segments), ("profile", "motion", "segments")
+    if spec.segments is not None:
+        return len(spec.segments), ("profile", "segments")
+    return 8, ("profile", "lift")
+
+
+def toolpath_work(service: ProfileService, body: ToolpathRequest, fmt: str) -> WorkEstimate:
+    """The curves, the checks of each wall, the fitted elements and the answer's encoding."""
+    laws, work = service.laws(body.profile)
+    paths = 2 if body.side == "groove" else 1
+    segments, field = schedule(body.profile)
+    elements = paths * fit_elements_estimate(strokes_mm(body.profile), segments, body.tolerance_mm)
+    work += fit_work(laws, elements, paths, field, ("tolerance_mm",))
+    seconds = TOOLPATH_FORMATS[fmt].cost(elements) if fmt in TOOLPATH_FORMATS else \
+        encode_cost(elements * ELEMENT_VALUES, False)
+    return work + WorkEstimate((WorkTerm(("tolerance_mm",), f"writing about {elements} elements as {fmt}", seconds),))
+
+
+def toolpath(service: ProfileService, body: ToolpathRequest) -> Toolpath:
+    """The fitted paths (413 over the element limit)."""
+    cam = service.cam(body.profile)
+    return compute_toolpath(cam, body.tool_radius_mm, body.tolerance_mm, body.side, body.allow_gouge,
+                            service.curves.settings.max_toolpath_elements)
+
+
+def toolpath_file(service: ProfileService, body: ToolpathRequest, fmt: str) -> bytes:
+    """The paths written in one of :data:`camcore.export.TOOLPATH_FORMATS`."""
+    item = ToolpathFile(toolpath(service, body), body.feed_mm_min, body.safe_z_mm, body.cut_z_mm, body.lead_in_mm)
+    return TOOLPATH_FORMATS[fmt].write(item)
+
+
+def toolpath_answer(service: ProfileService, body: ToolpathRequest) -> dict[str, Any]:
+    """The JSON answer: every element of every path, the deviations and counts."""
+    tp = toolpath(service, body)
+    paths = []
+    for p in tp.paths:
+        elements = [{"type": "arc" if e.is_arc else "line", "x0_mm": e.start[0], "y0_mm": e.start[1],
+                     "x1_mm": e.end[0], "y1_mm": e.end[1],
+                     "cx_mm": e.centre[0] if e.centre else None, "cy_mm": e.centre[1] if e.centre else None,
+                     "radius_mm": e.radius_mm if e.centre else None,
+                     "direction": ("ccw" if e.ccw else "cw") if e.centre else None} for e in p.elements]
+        paths.append({"wall": p.wall, "side": p.side, "clockwise": p.clockwise, "offset_mm": p.offset_mm,
+                      "max_deviation_mm": p.max_deviation_mm, "segments_count": len(p.elements),
+                      "length_mm": p.length_mm,
+                      "min_concave_radius_mm": p.min_concave_radius_mm if math.isfinite(p.min_concave_radius_mm)
+                      else None,
+                      "min_concave_radius_at_deg": p.min_concave_radius_at_deg, "gouges": p.gouges,
+                      "lead_in_mm": p.lead_in_mm, "elements": elements})
+    return {"tool_radius_mm": tp.tool_radius_mm, "tolerance_mm": tp.tolerance_mm, "side": tp.side,
+            "max_deviation_mm": tp.max_deviation_mm, "segments_count": tp.segments_count, "paths": paths}
+
+
+def _content(fmt: FileFormat[Any]) -> dict[str, Any]:
+    schema = {"type": "string"} if fmt.is_text else {"type": "string", "format": "binary"}
+    return {fmt.media_type.split(";")[0]: {"schema": schema}}
+
+
+def _file(payload: bytes, fmt: FileFormat[Any]) -> Response:
+    return Response(payload, media_type=fmt.media_type,
+                    headers={"Content-Disposition": f'attachment; filename="{fmt.file_name}"'})
+
+
+ToolpathBody = Annotated[ToolpathRequest, Body(openapi_examples=TOOLPATH_EXAMPLES)]
+
+
+def register(router: APIRouter) -> None:
+    """Add ``computeToolpath`` and one operation per toolpath file format to ``router``."""
+    answers: dict[str, Any] = {}  # JSON comes from the response model
+    for fmt in TOOLPATH_FORMATS.values():
+        answers |= _content(fmt)
+
+    async def compute(body: ToolpathBody, request: Request, service: Service, gate: Gate) -> Response:
+        work = toolpath_work(service, body, body.format)
+        if body.format in TOOLPATH_FORMATS:
+            fmt = TOOLPATH_FORMATS[body.format]
+            return _file(await gate.run(request, work, toolpath_file, service, body, fmt.name), fmt)
+        return json_response(await gate.run(request, work, toolpath_answer, service, body))
+
+    compute.__doc__ = ("The cutter-centre path of a plate cam (its surface offset by the tool radius) as lines and "
+                       "arcs within tolerance_mm, the deviation measured; JSON, or G-code or DXF with format.")
+    router.add_api_route("/toolpath", compute, methods=["POST"], operation_id="computeToolpath",
+                         response_model=ToolpathAnswer, summary="Compute Toolpath",
+                         responses={**ERRORS, 200: {"content": answers,
+                                                    "description": "The paths as JSON, or the file of format"}})
+    for fmt in TOOLPATH_FORMATS.values():
+        _file_route(router, fmt)
+
+
+def _file_route(router: APIRouter, fmt: FileFormat[ToolpathFile]) -> None:
+    extension = fmt.file_name.rsplit(".", 1)[-1]
+    camel = "".join(part.capitalize() for part in fmt.name.split("-"))
+
+    async def export_toolpath(body: ToolpathBody, request: Request, service: Service, gate: Gate) -> Response:
+        work = toolpath_work(service, body, fmt.name)
+        return _file(await gate.run(request, work, toolpath_file, service, body, fmt.name), fmt)
+
+    export_toolpath.__doc__ = f"The toolpath as {fmt.description} (``computeToolpath`` with format {fmt.name})."
+    router.add_api_route(f"/toolpath.{extension}", export_toolpath, methods=["POST"],
+                         operation_id=f"exportToolpath{camel}", response_class=Response, summary=f"Export Toolpath "
+                         f"{camel}", responses={**ERRORS, 200: {"content": _content(fmt), "description": fmt.description}})

@@ -1,0 +1,139 @@
+"""Solids (camcore.export.SOLID_FORMATS): the plate cam extruded with its bore, by OpenCASCADE.
+
+The STEP file is read back through the kernel's own STEP reader (a second path through the
+file: the writer's shape is gone) as one solid; its volume must be (contour area − bore
+area) × thickness and its box the contour's box × [0, thickness], with the contour area and
+box taken independently from ``compute_profile``'s surface at 0.001°. The STL is parsed here
+(binary layout, 50 bytes a facet): closed (every edge shared by exactly two facets, in
+opposite directions), its volume by the divergence theorem.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import struct
+import tempfile
+from collections import Counter
+
+import numpy as np
+import pytest
+
+import camcore
+from camcore.errors import InvalidParameterError, LimitExceededError
+from camcore.export import SOLID_FORMATS, SolidCam, solid_step, solid_stl
+from camcore.profile import Follower, Segment, compute_profile, make_cam
+
+MS = camcore.named_curve("MS")
+ROLLER = make_cam(Follower(type="roller", roller_radius_mm=10), 40, segments=[
+    Segment(type="rise", angle_deg=120, lift_mm=20, curve=MS), Segment(type="dwell", angle_deg=60),
+    Segment(type="return", angle_deg=120, lift_mm=20), Segment(type="dwell", angle_deg=60)])
+FLAT = make_cam(Follower(type="flat-faced", motion="oscillating", pivot_distance_mm=90), 35, segments=[
+    Segment(type="rise", angle_deg=150, swing_deg=12), Segment(type="dwell", angle_deg=30),
+    Segment(type="return", angle_deg=150, swing_deg=12), Segment(type="dwell", angle_deg=30)], rotation="cw")
+
+
+def exact_contour(spec: camcore.profile.CamSpec) -> tuple[float, float, np.ndarray]:
+    """Area [mm²], perimeter [mm] and points of the exact surface, 360 001 points: the polygon's
+    area misses the curve's by at most perimeter × sagitta ≈ 400 × 1e-9 mm²."""
+    p = compute_profile(spec, np.linspace(0.0, 360.0, 360001))
+    x, y = p.x_mm[:-1], p.y_mm[:-1]
+    area = 0.5 * abs(float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)))
+    perimeter = float(np.sum(np.hypot(np.diff(p.x_mm), np.diff(p.y_mm))))
+    return area, perimeter, np.column_stack([x, y])
+
+
+def read_step(data: bytes) -> tuple[int, float, tuple[float, ...]]:
+    """Solids, volume and box of a STEP file, through the kernel's STEP reader."""
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRepBndLib import BRepBndLib
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+    from OCP.IFSelect import IFSelect_RetDone
+    from OCP.STEPControl import STEPControl_Reader
+    from OCP.TopAbs import TopAbs_SOLID
+    from OCP.TopExp import TopExp_Explorer
+
+    fd, name = tempfile.mkstemp(suffix=".step")
+    try:
+        os.write(fd, data)
+        os.close(fd)
+        reader = STEPControl_Reader()
+        assert reader.ReadFile(name) == IFSelect_RetDone
+        reader.TransferRoots()
+        shape = reader.OneShape()
+    finally:
+        os.unlink(name)
+    solids = 0
+    explorer = TopExp_Explorer(shape, TopAbs_SOLID)
+    while explorer.More():
+        solids += 1
+        explorer.Next()
+    props = GProp_GProps()
+    BRepGProp.VolumeProperties_s(shape, props)
+    box = Bnd_Box()
+    BRepBndLib.Add_s(shape, box, False)
+    lo, hi = box.CornerMin(), box.CornerMax()
+    return solids, props.Mass(), (lo.X(), lo.Y(), lo.Z(), hi.X(), hi.Y(), hi.Z())
+
+
+def read_stl(data: bytes) -> np.ndarray:
+    """The facets of a binary STL, shape (n, 3, 3) [mm]; the count in the header must match."""
+    (count,) = struct.unpack_from("<I", data, 80)
+    assert len(data) == 84 + 50 * count
+    rows = np.frombuffer(data, dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")]),
+                         count=count, offset=84)
+    return rows["v"].astype(np.float64)
+
+
+@pytest.mark.parametrize(("spec", "bore"), [(ROLLER, 20.0), (FLAT, 0.0)], ids=["roller-bored", "flat-oscillating"])
+def test_step_reads_back_as_one_solid_of_the_right_volume_and_box(spec: camcore.profile.CamSpec, bore: float) -> None:
+    tolerance, thickness = 0.001, 12.0
+    solids, volume, box = read_step(solid_step(SolidCam(spec, thickness, bore, tolerance)))
+    area, perimeter, pts = exact_contour(spec)
+    assert solids == 1
+    # the contour lies within the tolerance of the exact surface, so the areas differ by at most
+    # perimeter × tolerance (here ~0.4 mm² of ~7 000 mm²); the kernel's volume is exact for lines
+    # and arcs (to its 1e-7 mm precision)
+    expected = (area - math.pi * bore**2 / 4) * thickness
+    assert abs(volume - expected) <= perimeter * tolerance * thickness
+    # and far closer in fact: arcs fitted either side of the curve leave ~1e-6 of the area
+    assert volume == pytest.approx(expected, rel=2e-5)
+    # the box: the kernel pads its box by the shapes' tolerance (1e-7 mm) and the contour may
+    # stand off the exact surface by the fitting tolerance
+    exact_box = (pts[:, 0].min(), pts[:, 1].min(), 0.0, pts[:, 0].max(), pts[:, 1].max(), thickness)
+    assert np.allclose(box, exact_box, atol=tolerance + 1e-6), (box, exact_box)
+
+
+def test_stl_is_closed_with_the_right_volume() -> None:
+    tolerance, thickness, bore = 0.01, 10.0, 25.0
+    data = solid_stl(SolidCam(ROLLER, thickness, bore, tolerance))
+    facets = read_stl(data)
+    # closed and consistently oriented: each directed edge once, and its reverse once
+    # (float32 vertices, rounded to 1e-4 mm to name them)
+    keys = np.round(facets, 4)
+    edges = Counter()
+    for a, b in ((0, 1), (1, 2), (2, 0)):
+        for p, q in zip(map(tuple, keys[:, a]), map(tuple, keys[:, b])):
+            edges[(p, q)] += 1
+    assert all(n == 1 for n in edges.values())
+    assert all(edges[(q, p)] == 1 for p, q in edges)
+    # volume by the divergence theorem, Σ v0 · (v1 × v2) / 6: positive for outward normals. The
+    # facets lie within the tolerance of the exact surface (half for the arcs, half for the
+    # chords), so the volume within perimeter × tolerance × thickness; float32 vertices add ~1e-6
+    v0, v1, v2 = facets[:, 0], facets[:, 1], facets[:, 2]
+    volume = float(np.einsum("ij,ij->i", v0, np.cross(v1, v2)).sum() / 6.0)
+    area, perimeter, _ = exact_contour(ROLLER)
+    expected = (area - math.pi * bore**2 / 4) * thickness
+    assert 0 < volume and abs(volume - expected) <= perimeter * tolerance * thickness
+    assert facets[:, :, 2].min() == 0.0 and facets[:, :, 2].max() == pytest.approx(thickness, abs=1e-5)
+
+
+def test_solid_refusals_name_the_field() -> None:
+    with pytest.raises(InvalidParameterError) as info:
+        solid_step(SolidCam(ROLLER, 10.0, 80.5))
+    assert info.value.field == ("solid", "bore_diameter_mm") and "smaller than the cam at its narrowest" in str(info.value)
+    with pytest.raises(LimitExceededError) as limit:
+        solid_stl(SolidCam(ROLLER, 10.0, 20.0, 0.001, max_triangles=1000))
+    assert limit.value.field == ("solid", "tolerance_mm")
+    assert set(SOLID_FORMATS) == {"step", "stl"}
