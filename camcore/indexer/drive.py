@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._checks import finite, non_negative, positive
+from .._checks import finite, positive
 from .._solvers import scan_roots
 from ..curves.base import FloatArray
 from ..curves.curve import Curve
@@ -279,23 +279,3 @@ def motor_scale(motor: Motor, efficiency: float) -> Callable[[FloatArray], Float
         return np.where(t >= 0, t / (i * losses), t * losses / i)
 
     return scale
-
-
-def nonnegative_internal(value: float) -> float:
-    """The internal friction torque, checked (≥ 0) [N·m].
-
-    Parameters
-    ----------
-    value : float
-        Tᵢ [N·m].
-
-    Returns
-    -------
-    float
-        Tᵢ [N·m].
-
-    References
-    ----------
-    The maker's data: the torque to turn the unit's input shaft unloaded.
-    """
-    return non_negative("internal_friction_torque_nm", value)

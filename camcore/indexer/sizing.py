@@ -18,11 +18,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._checks import non_negative
 from ..curves.base import FloatArray
 from ..curves.curve import Curve
 from ..curves.extrema import power_balance_peaks
 from ..errors import InvalidParameterError
-from .drive import Cycle, Motor, TorqueLaw, cycle_rms, motor_scale, nonnegative_internal, torque_table
+from .drive import Cycle, Motor, TorqueLaw, cycle_rms, motor_scale, torque_table
 from .kinematics import Indexer, index_scales, indexing_time_s
 from .load import Load
 from .results import Sizing
@@ -115,6 +116,15 @@ def _chart_peaks(indexer: TimedIndexer, inertia: float, resisting: float) -> _Pe
                   coefficients=(one(inertia * ka), one(resisting)))
 
 
+#: the fields of :class:`Sizing` that depend on the design (what :func:`_figures` gives, what a
+#: sweep answers per row)
+FIGURE_FIELDS = ("alpha_max_rad_s2", "omega_max_rad_s", "inertia_torque_nm", "output_torque_nm",
+                 "design_output_torque_nm", "input_torque_nm", "input_torque_t", "input_torque_input_angle_deg",
+                 "input_torque_time_s", "input_torque_pos_nm", "input_torque_pos_t", "input_torque_neg_nm",
+                 "input_torque_neg_t", "input_torque_catalog_nm", "qm", "input_power_kw", "input_power_catalog_kw",
+                 "speed_rpm")
+
+
 def _figures(peaks: _Peaks, load: Load, stops: FloatArray, theta_h_deg: FloatArray,
              rpm: FloatArray) -> dict[str, FloatArray]:
     """The sizing figures from the peaks, one entry per sizing (the fields of :class:`Sizing`
@@ -134,13 +144,10 @@ def _figures(peaks: _Peaks, load: Load, stops: FloatArray, theta_h_deg: FloatArr
     t_in = fc * np.where(braking, np.abs(f_min), np.abs(f_max))
     t_cat = 360.0 / (stops * theta_h_deg) * peaks.qm * fc * tt
     w_in = 2.0 * np.pi * rpm / 60.0
-    return {"alpha_max_rad_s2": peaks.alpha_max, "omega_max_rad_s": peaks.omega_max, "inertia_torque_nm": ti,
-            "output_torque_nm": tt, "design_output_torque_nm": fc * tt, "input_torque_nm": t_in,
-            "input_torque_t": np.where(braking, t_min, t_max), "input_torque_input_angle_deg": x_peak,
-            "input_torque_time_s": x_peak / (6.0 * rpm), "input_torque_pos_nm": fc * f_max,
-            "input_torque_pos_t": t_max, "input_torque_neg_nm": fc * f_min, "input_torque_neg_t": t_min,
-            "input_torque_catalog_nm": t_cat, "qm": peaks.qm, "input_power_kw": w_in * t_in / eta / 1000.0,
-            "input_power_catalog_kw": w_in * t_cat / eta / 1000.0, "speed_rpm": np.broadcast_to(rpm, t_in.shape)}
+    values = (peaks.alpha_max, peaks.omega_max, ti, tt, fc * tt, t_in, np.where(braking, t_min, t_max), x_peak,
+              x_peak / (6.0 * rpm), fc * f_max, t_max, fc * f_min, t_min, t_cat, peaks.qm,
+              w_in * t_in / eta / 1000.0, w_in * t_cat / eta / 1000.0, np.broadcast_to(rpm, t_in.shape))
+    return dict(zip(FIGURE_FIELDS, values, strict=True))
 
 
 def size(
@@ -214,7 +221,7 @@ def size(
     acc = None
     if accuracy_arc_seconds is not None and accuracy_radius_mm is not None:
         acc = float(accuracy_mm(accuracy_arc_seconds, accuracy_radius_mm))
-    internal = nonnegative_internal(internal_friction_torque_nm)
+    internal = non_negative("internal_friction_torque_nm", internal_friction_torque_nm)
     cycle = _cycle(indexer, peaks)
     fc = float(load.service_factor)
     g = load.gear_ratio

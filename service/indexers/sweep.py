@@ -10,6 +10,7 @@ from pydantic import Field, create_model, model_validator
 
 from camcore.indexer import Sizing
 from camcore.indexer.checks import check_speed_alternatives
+from camcore.indexer.sizing import FIGURE_FIELDS
 from camcore.indexer.sweep import size_sweep
 from camcore.results import answer_fields
 from camcore.work import WorkEstimate, per_item_work
@@ -65,11 +66,7 @@ SWEEP_EXAMPLES: dict[str, Example] = {
 
 #: the sweep's columns: the design, then every sizing figure that depends on it
 _FIGURES: dict[str, Any] = {name: (list[float], Field(description=text)) for name, _, text, _ in answer_fields(Sizing)
-            if name in ("alpha_max_rad_s2", "omega_max_rad_s", "inertia_torque_nm", "output_torque_nm",
-                        "design_output_torque_nm", "input_torque_nm", "input_torque_t", "input_torque_input_angle_deg",
-                        "input_torque_time_s", "input_torque_pos_nm", "input_torque_pos_t", "input_torque_neg_nm",
-                        "input_torque_neg_t", "input_torque_catalog_nm", "qm", "input_power_kw",
-                        "input_power_catalog_kw", "speed_rpm")}
+                            if name in FIGURE_FIELDS}
 SizingSweepAnswer = create_model(
     "SizingSweepAnswer", __doc__="One row per combination (the sizing figures of sizeIndexer, column by column).",
     stops=(list[float], Field(description="n")), indexing_angle_deg=(list[float], Field(description="θh [deg]")),
