@@ -9,6 +9,7 @@ from starlette.types import ASGIApp
 
 import camcore
 from service.admission import InFlightLimit, WorkGate
+from service.cams import routes as cams
 from service.curves import routes as curves
 from service.curves.service import CurveService
 from service.errors import install_error_handlers
@@ -65,7 +66,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     install_error_handlers(app)
     # vibration before plots: its GET /v1/curves/vibration/plot would match /v1/curves/{name}/plot
     app.example_routers = (health_router, curves.router, indexers.router, profiles.router, motions.router,
-                           vibration.router, plots.router, dynamics.router)
+                           vibration.router, plots.router, dynamics.router, cams.router)
     for router in app.example_routers:
         app.include_router(router)
     install_offline_docs(app)  # before security: it publishes the asset paths left open
