@@ -24,8 +24,8 @@ from service.curves.specs import (
     TABLE_EXAMPLES,
     CatalogAnswer,
     CatalogEntryAnswer,
-    CharacteristicsAnswer,
     CharacteristicsRequest,
+    CurveCharacteristicsAnswer,
     CurveSpec,
     CurveTable,
     InverseRequest,
@@ -75,7 +75,7 @@ def get_curve(name: CurveName, service: Service) -> Response:
 
 
 @router.post("/characteristics", operation_id="getCurveCharacteristics",
-             response_model=CharacteristicsAnswer, responses=ERRORS)
+             response_model=CurveCharacteristicsAnswer, responses=ERRORS)
 async def characteristics(body: Annotated[CharacteristicsRequest, Body(openapi_examples=CHARACTERISTICS_EXAMPLES)],
                           request: Request, service: Service, gate: Gate) -> Response:
     """Vm, Am±, Jm±, Qm± (and raw A·V extremes) with the T where each occurs."""

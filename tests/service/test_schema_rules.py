@@ -195,16 +195,22 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
     "/components/schemas/PointsCurveSpec/required/0": (
         [curve({"type": "points", "t": [0, 1], "s": [0, 1]})],
         [(curve({"t": [0, 1], "s": [0, 1]}), "Unable to extract tag using discriminator 'type'")]),
-    "Makino curve 1 needs z and no other parameter": (
-        [curve({"type": "makino", "number": 1, "z": 0.5})],
+    "Makino curve 1 needs z (or v_ratio instead of z) and no other parameter": (
+        [curve({"type": "makino", "number": 1, "z": 0.5}), curve({"type": "makino", "number": 1, "v_ratio": 0.1})],
         [(curve({"type": "makino", "number": 1}), "Makino curve 1 needs z"),
+         (curve({"type": "makino", "number": 1, "z": 0.9, "v_ratio": 0.1}), "give v_ratio or z, not both"),
          (curve({"type": "makino", "number": 1, "z": 0.5, "t4": 0.5}), "Makino curve 1 takes no parameter t4")]),
     "Makino curve 2 needs t4 and no other parameter": (
         [curve({"type": "makino", "number": 2, "t4": 0.5})],
         [(curve({"type": "makino", "number": 2, "t4": None}), "Makino curve 2 needs t4")]),
-    "Makino curve 4 needs t1, t3 and no other parameter": (
-        [curve({"type": "makino", "number": 4, "t1": 0.0625, "t3": 0.25})],
+    "Makino curve 4 needs t1, t3 (or vm, optional t1_over_t3 instead of t1, t3) and no other parameter": (
+        [curve({"type": "makino", "number": 4, "t1": 0.0625, "t3": 0.25}),
+         curve({"type": "makino", "number": 4, "vm": 1.27526}),
+         curve({"type": "makino", "number": 4, "vm": 2.5, "t1_over_t3": 1})],
         [(curve({"type": "makino", "number": 4, "t1": 0.0625}), "Makino curve 4 needs t3"),
+         (curve({"type": "makino", "number": 4, "vm": 1.3, "t3": 0.25}), "give vm or t1, t3, not both"),
+         (curve({"type": "makino", "number": 4, "t1_over_t3": 0.25}), "t1_over_t3 goes with vm"),
+         (curve({"type": "makino", "number": 4, "vm": 1.3, "v_ratio": 0.1}), "takes no target v_ratio"),
          (curve({"type": "makino", "number": 4, "t1": 0.0625, "t3": 0.25, "z": 1}), "takes no parameter z")]),
     "Makino curve 36 takes t1 and no other parameter": (
         # T1 = 1/4 is the bound itself: T2 = (2 − 6·T1 + π·T1)/(2 + π) = 1/4 = T1
@@ -214,7 +220,8 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
     "any other number is one of Makino's table 2 (or 11), which take no parameters": (
         [curve({"type": "makino", "number": 26}), curve({"type": "makino", "number": 11})],
         [(curve({"type": "makino", "number": 3}), "Makino curve number 3 is not one of"),
-         (curve({"type": "makino", "number": 26, "z": 0.5}), "Makino curve 26 takes no parameter z")]),
+         (curve({"type": "makino", "number": 26, "z": 0.5}), "Makino curve 26 takes no parameter z"),
+         (curve({"type": "makino", "number": 26, "vm": 1.5}), "Makino curve 26 takes no target vm")]),
     "give either m or v7, not both: with m fixed, V7 is a result": (
         [curve({"type": "universal", "t": [0, 0.2, 0.2, 0.4, 0.4, 0.7, 0.7, 1], "m": 0.5})],
         [(curve({"type": "universal", "t": [0, 0.2, 0.2, 0.4, 0.4, 0.7, 0.7, 1], "m": 0.5, "v7": 0}),
@@ -504,7 +511,7 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     # the lengths of two arrays
     "t and s must have the same length", "v must have one slope per point",
     # two numbers of a spec compared, or summed, or multiplied
-    "curve 4 needs 0 < T1 ≤ T3 ≤ 0.5", "a ring needs inner_diameter_mm ≤ diameter_mm",
+    "curve 4 needs 0 < T1 ≤ T3 ≤ 0.5", "is out of reach", "a ring needs inner_diameter_mm ≤ diameter_mm",
     "the offset must be smaller than the base radius", "segment angles must add to 360°", "The schedule does not close",
     "the total indexing angle θt = θh·z must not exceed 360°",
     # the geometry of Bezier control points
