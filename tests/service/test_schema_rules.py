@@ -222,6 +222,16 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
         [(curve({"type": "makino", "number": 3}), "Makino curve number 3 is not one of"),
          (curve({"type": "makino", "number": 26, "z": 0.5}), "Makino curve 26 takes no parameter z"),
          (curve({"type": "makino", "number": 26, "vm": 1.5}), "Makino curve 26 takes no target vm")]),
+    "a makino spec varies z, t4, t1, t3, vm, t1_over_t3, v_ratio": (
+        [("/v1/curves/characteristics/sweep", {"curve": {"type": "makino", "number": 4, "t1": 0.05, "t3": 0.2},
+                                               "vary": {"t3": [0.2, 0.3]}})],
+        [(("/v1/curves/characteristics/sweep", {"curve": {"type": "makino", "number": 4, "t1": 0.05, "t3": 0.2},
+                                                "vary": {"m": [0.5]}}), "a makino spec varies")]),
+    "a universal spec varies t0, t1, t2, t3, t4, t5, t6, t7, m, v0, v7, s0, s7": (
+        [("/v1/curves/characteristics/sweep", {"curve": {"type": "universal", "t": [0, 0.1, 0.1, 0.3, 0.5, 0.75, 0.75, 1]},
+                                               "vary": {"t3": [0.2, 0.3]}})],
+        [(("/v1/curves/characteristics/sweep", {"curve": {"type": "universal", "t": [0, 0.1, 0.1, 0.3, 0.5, 0.75, 0.75, 1]},
+                                                "vary": {"vm": [1.2]}}), "a universal spec varies")]),
     "give either m or v7, not both: with m fixed, V7 is a result": (
         [curve({"type": "universal", "t": [0, 0.2, 0.2, 0.4, 0.4, 0.7, 0.7, 1], "m": 0.5})],
         [(curve({"type": "universal", "t": [0, 0.2, 0.2, 0.4, 0.4, 0.7, 0.7, 1], "m": 0.5, "v7": 0}),
