@@ -180,10 +180,9 @@ class CurveService:
             return {"s": s_arr, "t": vals.t, "v": vals.v, "a": vals.a}
         grows = not curve.inverse_ready
         with within("curve", only=NonMonotoneError):
-            t = curve.inverse(s_arr)
+            t, v, a = curve.inverse_with_rates(s_arr)
         if grows:  # the curve now holds its inverse's start tables: count them in the cache's bytes
             self.curves.remeasure(spec.cache_key())
-        _s, v, a = curve.derivatives(t, 2)
         return {"s": s_arr, "t": t, "v": v, "a": a}
 
     def value(self, spec: CurveSpec, quantity: str, t: float | None, s: float | None) -> bytes:
