@@ -10,7 +10,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from camcore._solvers import golden_max
+from camcore._maxima import golden_max
 from camcore.curves import build_curve
 from camcore.profile import Follower, Segment, kinematics, make_cam, profile_checks, size_base_circle
 from camcore.profile.checks import check_grid, lift_grid

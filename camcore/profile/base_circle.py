@@ -17,7 +17,8 @@ from typing import Literal
 
 import numpy as np
 
-from .._solvers import NoFeasiblePointError, periodic_grid_maxima, smallest_feasible
+from .._maxima import periodic_grid_maxima
+from .._solvers import NoFeasiblePointError, smallest_feasible
 from ..errors import GeometryError, InvalidParameterError
 from .cam import CamSpec, validate
 from .checks import LiftGrid, check_maxima, corners, lift_grid, profile_checks

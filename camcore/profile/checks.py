@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._solvers import periodic_grid_maxima
+from .._maxima import periodic_grid_maxima
 from ..curves.base import FloatArray
 from .cam import CamSpec, kinematics, rotate
 from .followers import Kinematics
