@@ -10,7 +10,7 @@ import camcore
 from camcore import export
 from camcore.curves.kinds import LawCost
 from camcore.results import as_dict
-from camcore.work import WorkEstimate, WorkTerm, base_circle_work, curve_work, motion_work, profile_work
+from camcore.work import WorkEstimate, WorkTerm, base_circle_work, motion_work, profile_work
 from service.cache import LRUCache
 from service.curves.service import CurveService
 from service.errors import within
@@ -48,7 +48,7 @@ class ProfileService:
         if spec.segments is None:
             assert spec.lift is not None
             law = self.curves.law(spec.lift, at=("profile", "lift"))
-            return [law], curve_work(law, ("profile", "lift"))
+            return [law], self.curves.build_work(spec.lift, law, ("profile", "lift"))
         laws: list[LawCost | None] = []
         built = WorkEstimate()
         seen = set()
@@ -61,7 +61,7 @@ class ProfileService:
             laws.append(law)
             if segment.curve.cache_key() not in seen:
                 seen.add(segment.curve.cache_key())
-                built += curve_work(law, at)
+                built += self.curves.build_work(segment.curve, law, at)
         return laws, built
 
     def profile_work(self, spec: ProfileSpec, samples: int | None, cam_angle_deg: list[float] | None,
