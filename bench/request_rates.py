@@ -50,15 +50,15 @@ def _fixed_body(tmp: Path, name: str, path: str, body: dict[str, Any]) -> str:
     return str(lua)
 
 
-def _new_cams(tmp: Path, body: dict[str, Any]) -> str:
-    """The profile example with its base radius changed by 1e-6 mm per request (a new cam)."""
-    template = json.dumps(body).replace(f'"base_radius_mm": {body["profile"]["base_radius_mm"]}',
-                                        '"base_radius_mm": %.6f')
-    lua = tmp / "new_cams.lua"
+def _varied(tmp: Path, name: str, path: str, body: dict[str, Any], field: str, value: float) -> str:
+    """The body with the number ``"field": value`` changed by 1e-6 per request (a new request
+    every time: nothing comes from an answer cache)."""
+    template = json.dumps(body).replace(f'"{field}": {value}', f'"{field}": %.6f')
+    assert "%.6f" in template, f"{field} not in the body"
+    lua = tmp / f"{name}.lua"
     lua.write_text("counter = 0\nrequest = function()\n  counter = counter + 1\n"
-                   f"  local body = string.format('{template}', {body['profile']['base_radius_mm']} + "
-                   "(counter % 1000000) * 1e-6)\n"
-                   '  return wrk.format("POST", "/v1/profiles", {["Content-Type"] = "application/json"}, body)\nend\n')
+                   f"  local body = string.format('{template}', {value} + (counter % 1000000) * 1e-6)\n"
+                   f'  return wrk.format("POST", "{path}", {{["Content-Type"] = "application/json"}}, body)\nend\n')
     return str(lua)
 
 
@@ -67,19 +67,23 @@ def request_figures(seconds: int, runs: int, latency_requests: int) -> dict[str,
     if not have_wrk():
         return {name: {"skipped": WRK_MISSING} for name in names}
     rates: dict[str, list[float]] = {k: [] for k in ("health", "profile", "profile_new_cam", "characteristics_new",
-                                                     "characteristics_cached", "sizing")}
+                                                     "characteristics_cached", "sizing", "sizing_new_load")}
     with tempfile.TemporaryDirectory() as tmp_name, Server(workers=1, cpus="0") as server:
         tmp = Path(tmp_name)
         spec = httpx.get(server.url + "/openapi.json", timeout=30).json()
         profile = _example(spec, "/v1/profiles")
+        sizing = _example(spec, "/v1/indexers/sizing")
         scripts = {
             "profile": (server.url + "/v1/profiles", _fixed_body(tmp, "profile", "/v1/profiles", profile)),
-            "profile_new_cam": (server.url + "/v1/profiles", _new_cams(tmp, profile)),
+            "profile_new_cam": (server.url + "/v1/profiles", _varied(tmp, "new_cams", "/v1/profiles", profile,
+                                                                     "base_radius_mm",
+                                                                     profile["profile"]["base_radius_mm"])),
             "characteristics_new": (server.url + "/v1/curves/characteristics", str(_write(tmp, CHARACTERISTICS_LUA))),
             "characteristics_cached": (server.url + "/v1/curves/characteristics", _fixed_body(
                 tmp, "cached", "/v1/curves/characteristics", _example(spec, "/v1/curves/characteristics"))),
-            "sizing": (server.url + "/v1/indexers/sizing",
-                       _fixed_body(tmp, "sizing", "/v1/indexers/sizing", _example(spec, "/v1/indexers/sizing"))),
+            "sizing": (server.url + "/v1/indexers/sizing", _fixed_body(tmp, "sizing", "/v1/indexers/sizing", sizing)),
+            "sizing_new_load": (server.url + "/v1/indexers/sizing", _varied(
+                tmp, "new_loads", "/v1/indexers/sizing", sizing, "mass_kg", sizing["load"]["parts"][0]["mass_kg"])),
         }
         warm = min(2, seconds)
         for url, lua in scripts.values():
@@ -106,8 +110,10 @@ def request_figures(seconds: int, runs: int, latency_requests: int) -> dict[str,
             rates["characteristics_new"], ">= 1000", unit="req/s", cached_curve_rps=rates["characteristics_cached"],
             **beside, what="POST /v1/curves/characteristics of a new universal curve every request (built and its "
                            "extrema solved); cached_curve_rps: MS, from the curve cache on the event loop"),
-        "sizing_rps": figure(rates["sizing"], ">= 1500", unit="req/s", **beside,
-                             what="POST /v1/indexers/sizing, the request example (peaks, torque table, RMS)"),
+        "sizing_rps": figure(rates["sizing"], ">= 1500", unit="req/s", new_load_rps=rates["sizing_new_load"], **beside,
+                             what="POST /v1/indexers/sizing, the request example sent over and over (its answer from "
+                                  "the sizing cache after the first); new_load_rps: the load's mass changed every "
+                                  "request (peaks, torque table and RMS computed every time)"),
         "base_circle_ms": figure(latencies, "<= 50", unit="ms",
                                  what=f"POST /v1/profiles/base-circle, the request example, {latency_requests} "
                                       "requests one after another (latency, ms)"),

@@ -75,6 +75,7 @@ class Settings(BaseSettings):
     table_cache_max_rows: int = Field(10_001, ge=0)
     table_cache_max_bytes: int = Field(32 * 1024 * 1024, ge=0)
     profile_checks_cache_size: int = Field(256, ge=0)
+    sizing_cache_size: int = Field(256, ge=0)
 
     # access control (off by default for local use)
     api_key: str | None = None

@@ -10,6 +10,7 @@ import camcore
 from camcore.errors import InvalidParameterError, NonMonotoneError
 from camcore.results import as_dict
 from camcore.work import WorkEstimate, motion_work, per_item_work
+from service.cache import LRUCache
 from service.curves.service import CurveService
 from service.errors import within
 from service.indexers.specs import IndexerSpec, LoadSpec, MotorSpec
@@ -31,6 +32,8 @@ RMS_PER_PIECE_S = 1.5 * 3.5e-6
 PEAKS_S = 1.5 * 4.5e-4
 #: pieces of a catalog or universal law at most (a points curve has one per point)
 MOST_PIECES_OF_A_LAW = 9
+#: bytes the cached sizing answers may hold (one is ~10 kB with its 181-row torque table)
+SIZING_CACHE_MAX_BYTES = 8 * 1024 * 1024
 #: where a timing chart is in the request
 TIMING = ("indexer", "timing")
 
@@ -41,6 +44,11 @@ class IndexerService:
     def __init__(self, curves: CurveService, motions: MotionService):
         self.curves = curves
         self.motions = motions
+        # encoded sizing answers by request: a spreadsheet recalculating asks the same again
+        self.sizings: LRUCache[bytes] = LRUCache(curves.settings.sizing_cache_size, SIZING_CACHE_MAX_BYTES)
+
+    def cache_stats(self) -> dict[str, dict[str, int]]:
+        return {"sizings": self.sizings.stats()}
 
     # ------------------------------------------------------------------ work estimates
     def _timing_work(self, spec: IndexerSpec, rows: int, rows_field: tuple[str, ...]) -> WorkEstimate:

@@ -335,7 +335,9 @@ async def test_small_work_runs_on_the_event_loop_and_large_work_through_the_gate
             first = await client.post("/v1/indexers/sizing", json=body)  # builds the curve: through the gate
             assert first.status_code == 200 and len(watched) == 1
             watched.clear()
-            again = await client.post("/v1/indexers/sizing", json=body)
+            # another load (not the cached answer) on the same, now cached, curve
+            again = await client.post("/v1/indexers/sizing", json={**body, "load": {"parts": [
+                {"shape": "disc", "mass_kg": 51, "diameter_mm": 600}]}})
             assert again.status_code == 200
             answers.append(again.json())
             assert len(watched) == (0 if inline_s else 1)
