@@ -9,6 +9,7 @@ References
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -19,10 +20,12 @@ from ...curves.base import FloatArray
 from ...errors import InvalidParameterError
 from ...profile.lift import Lift
 from ...results import doc
-from .geometry import BarrelCam, _curvature, _pitch_x, _pressure, _state, check_grid, flank_points
+from .geometry import BarrelCam, _curvature, _pitch_x, _pressure, _State, _state, check_grid, flank_points
 
 #: a break point's derivative jump is a corner when it exceeds this fraction of the largest |dy/dθ|
 CORNER_JUMP = 1e-6
+#: radii evenly across the roller's length (ends included) where the checks draw the developed curve
+ACROSS_LENGTH = 9
 
 
 # ---------------------------------------------------------------------------- results
@@ -44,8 +47,16 @@ class BarrelChecks:
     min_radius_of_curvature_lower_mm: float | None = field(metadata=doc(
         "the same for the lower flank [mm]"))
     min_radius_of_curvature_lower_at_deg: float | None = field(metadata=doc("cam angle where it occurs [deg]"))
-    undercut_upper: bool = field(metadata=doc("the roller radius ≥ the pitch curve's radius where the upper flank "
-                                              "is convex: the roller cannot generate the flank there"))
+    min_radius_of_curvature_across_length_mm: float | None = field(metadata=doc(
+        "the smallest convex radius of either flank at any of 9 radii evenly across the roller's length and the pitch "
+        "radius: the developed curve drawn at that radius, offset by the roller's radius there [mm] (≤ 0: "
+        "undercut); null: never convex"))
+    min_radius_of_curvature_across_length_at_deg: float | None = field(metadata=doc("cam angle where it occurs [deg]"))
+    min_radius_of_curvature_across_length_at_radius_mm: float | None = field(metadata=doc(
+        "position along the roller's axis where it occurs [mm]"))
+    undercut_upper: bool = field(metadata=doc(
+        "at some radius across the roller's length, the roller's radius ≥ the developed curve's radius where the "
+        "upper flank is convex: the roller cannot generate the flank there"))
     undercut_lower: bool = field(metadata=doc("the same for the lower flank"))
     undercut: bool = field(metadata=doc("either flank is undercut"))
     corners_deg: tuple[float, ...] = field(metadata=doc(
@@ -177,8 +188,8 @@ def barrel_checks(cam: BarrelCam) -> BarrelChecks:
     br = np.asarray(cam.lift.breaks_rad, dtype=np.float64)
     x_in, x_out = cam.roller_ends_mm
 
-    def extreme(fun: object) -> tuple[float, float]:
-        return periodic_grid_max(lambda t: fun(_state(cam, t)), grid, br)  # type: ignore[operator]
+    def extreme(fun: Callable[[_State], FloatArray], radius_mm: float | None = None) -> tuple[float, float]:
+        return periodic_grid_max(lambda t: fun(_state(cam, t, radius_mm)), grid, br)
 
     t_p, p_max = extreme(lambda st: np.abs(_pressure(cam, st, _pitch_x(cam, st))))
     _, p_in = extreme(lambda st: np.abs(_pressure(cam, st, x_in)))
@@ -194,13 +205,29 @@ def barrel_checks(cam: BarrelCam) -> BarrelChecks:
             radii[name] = (0.0, kinks[0])
     k_abs = max(k_up, k_lo)
     outer = float(cam.pitch_radius_mm + 0.5 * cam.roller_length_mm)
-    under_up, under_lo = bool(k_up > 0 and rho >= 1.0 / k_up), bool(k_lo > 0 and rho >= 1.0 / k_lo)
+    # the developed rule at each radius r across the roller: the curve (r·θ', y), the roller's radius there
+    worst: tuple[float, float, float] | None = None  # (radius of curvature, θ, r)
+    under = {"upper": False, "lower": False}
+    for r in np.unique(np.append(np.linspace(x_in, x_out, ACROSS_LENGTH), cam.pitch_radius_mm)).tolist():
+        roller_r = r * math.tan(cam.cone_half_angle_rad) if cam.roller == "conical" else rho
+        for name, sign in (("upper", 1.0), ("lower", -1.0)):
+            t, k = extreme(lambda st, sign=sign: sign * _curvature(st), r)  # type: ignore[misc]
+            if k > 0:
+                under[name] = under[name] or roller_r >= 1.0 / k
+                if worst is None or 1.0 / k - roller_r < worst[0]:
+                    worst = (1.0 / k - roller_r, math.degrees(t), r)
+    if kinks:
+        worst = (0.0, kinks[0], cam.pitch_radius_mm)
+    under_up, under_lo = under["upper"], under["lower"]
     return BarrelChecks(
         max_pressure_angle_deg=math.degrees(p_max), max_pressure_angle_at_deg=math.degrees(t_p),
         max_pressure_angle_inner_deg=math.degrees(p_in), max_pressure_angle_outer_deg=math.degrees(p_out),
         min_pitch_radius_of_curvature_mm=(1.0 / k_abs if k_abs > 0 else None),
         min_radius_of_curvature_upper_mm=radii["upper"][0], min_radius_of_curvature_upper_at_deg=radii["upper"][1],
         min_radius_of_curvature_lower_mm=radii["lower"][0], min_radius_of_curvature_lower_at_deg=radii["lower"][1],
+        min_radius_of_curvature_across_length_mm=None if worst is None else worst[0],
+        min_radius_of_curvature_across_length_at_deg=None if worst is None else worst[1],
+        min_radius_of_curvature_across_length_at_radius_mm=None if worst is None else worst[2],
         undercut_upper=under_up, undercut_lower=under_lo, undercut=under_up or under_lo,
         corners_deg=tuple(kinks), cone_half_angle_deg=math.degrees(cam.cone_half_angle_rad),
         outer_radius_mm=outer, groove_bottom_radius_mm=outer - cam.groove_depth_mm,

@@ -208,10 +208,10 @@ def _check_arm(cam: BarrelCam) -> None:
             f"±{MAX_ARM_ANGLE_DEG}° of square to the cam axis.", field=("initial_arm_angle_deg",))
     assert cam.arm_length_mm is not None
     offset = cam.arm_length_mm * (1.0 - math.cos(math.radians(worst)))
-    if not offset < cam.pitch_radius_mm:
+    if not offset < cam.roller_ends_mm[0]:
         raise GeometryError(
-            f"at an arm angle of {worst!r}° the roller's axis lies {offset!r} mm off the cam axis, beyond the pitch "
-            f"radius ({cam.pitch_radius_mm!r} mm): shorten arm_length_mm or reduce the swing.",
+            f"at an arm angle of {worst!r}° the roller's axis lies {offset!r} mm off the cam axis, beyond the radius of "
+            f"the roller's inner end ({cam.roller_ends_mm[0]!r} mm): shorten arm_length_mm or reduce the swing.",
             field=("arm_length_mm",))
 
 
@@ -260,9 +260,10 @@ class _State:
     y2: FloatArray
 
 
-def _state(cam: BarrelCam, theta: FloatArray) -> _State:
+def _state(cam: BarrelCam, theta: FloatArray, radius_mm: float | None = None) -> _State:
+    """The follower's state, its developed curve drawn on the cylinder of ``radius_mm`` (default R)."""
     h, h1, h2 = cam.lift.derivatives(theta, 2)
-    r = cam.pitch_radius_mm
+    r = cam.pitch_radius_mm if radius_mm is None else radius_mm
     if cam.follower == "translating":
         zero = np.zeros_like(h)
         return _State(theta, h, zero, h, zero, h1, r * theta, h, np.full_like(h, r), h1, zero, h2)
