@@ -56,9 +56,9 @@ neighbouring cam angles; the oscillating centreline from the arm turned in 3-D).
 
 References
 ----------
-.. [1] S. Shinzato, M. Kunigami (1988), eq. (6): the pressure angle of a knife-edge plate cam,
-   tan φ = s'/(Rb + s), the lift's rate over the radius of the contact; the barrel cam's
-   developed groove has the radius R in its place, tan φ = s'/R.
+.. [1] S. Shinzato, M. Kunigami (1988), eq. (6): the pressure angle of a knife-edge plate cam
+   with a uniform rise, β = atan((ℓ − D/2)/(θ·ℓ)) = atan(s'/ℓ), the lift's rate over the radius ℓ
+   of the contact; on the developed groove the radius is R (or r across the roller), tan φ = s'/R.
 """
 
 from .compute import BarrelChecks, BarrelFlank, BarrelResult, barrel_checks, barrel_profile, corners, sample_barrel

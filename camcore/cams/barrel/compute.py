@@ -3,7 +3,7 @@
 
 References
 ----------
-.. [1] Shinzato and Kunigami (1988), eq. (6): tan φ = s'/(radius of the contact).
+.. [1] Shinzato and Kunigami (1988), eq. (6): the pressure angle, atan(s'/radius of the contact).
 """
 
 from __future__ import annotations
