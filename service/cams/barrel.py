@@ -77,7 +77,7 @@ class BarrelCamService:
         checks = checks_work(laws, field).seconds * BARREL_CHECKS_FACTOR
         n, points = body.samples, body.samples * body.length_samples
         values = n * TABLE_COLUMNS + (0 if csv else points * FLANK_VALUES)
-        return (built + WorkEstimate((*per_item_work(1, checks, field, "the barrel cam's checks").terms,))
+        return (built + per_item_work(1, checks, field, "the barrel cam's checks")
                 + per_item_work(n, BARREL_SAMPLE_S, ("samples",), f"{n} cam angles")
                 + per_item_work(points, FLANK_POINT_S, ("length_samples",), f"{points} flank points")
                 + per_item_work(values, encode_cost(1, csv), ("samples",), f"{values} numbers encoded"))
