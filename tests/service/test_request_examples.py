@@ -18,6 +18,7 @@ import httpx
 import pytest
 from pydantic import BaseModel
 
+from service.cams import barrel_specs as barrel_schemas
 from service.curves import specs as schemas
 from service.indexers import specs as indexer_schemas
 from service.indexers import sweep as sweep_schemas
@@ -130,7 +131,7 @@ def request_side_schemas() -> set[str]:
 
 def model_classes() -> dict[str, type[BaseModel]]:
     out: dict[str, type[BaseModel]] = {}
-    for module in (schemas, dynamics_schemas, indexer_schemas, sweep_schemas, motion_schemas, profile_schemas,
+    for module in (barrel_schemas, schemas, dynamics_schemas, indexer_schemas, sweep_schemas, motion_schemas, profile_schemas,
                    vibration_schemas, solid_schemas, toolpath_schemas):
         for value in vars(module).values():
             if isinstance(value, type) and issubclass(value, BaseModel):
