@@ -28,8 +28,9 @@ from service.routing import OrjsonRoute
 
 #: the barrel checks run 25 extreme searches (pressure angle at three radii, the pitch curve's
 #: curvature both ways, and both ways at 10 radii across the roller) where a plate cam's run 3;
-#: measured 70-126 ms for 4 segments (2.2 ms … 5.9× the plate estimate) and 0.69 s for 180 (3.2×)
-BARREL_CHECKS_FACTOR = 6.0
+#: measured (with the local-grid refinement of issue 21) 40-60 ms for the 4-segment request
+#: examples, up to 12 times the plate checks' estimate of the same segments; ×1.5
+BARREL_CHECKS_FACTOR = 18.0
 #: one sampled angle (lift, state, columns) measured 1.3 µs, one flank point 0.07 µs; ×1.5
 BARREL_SAMPLE_S = 1.5 * 1.3e-6
 FLANK_POINT_S = 1.5 * 1e-7

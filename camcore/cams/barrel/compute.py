@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..._solvers import periodic_grid_max
+from ..._maxima import periodic_grid_max
 from ...curves.base import FloatArray
 from ...errors import InvalidParameterError
 from ...profile.lift import Lift

@@ -16,7 +16,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..._solvers import periodic_grid_max
+from ..._maxima import periodic_grid_max
 from ...curves.base import FloatArray
 from ...errors import CamError, GeometryError, InvalidParameterError
 from ...motion.program import MotionProgram
