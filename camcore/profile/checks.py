@@ -19,7 +19,7 @@ from .._maxima import periodic_grid_maxima
 from ..curves.base import FloatArray
 from .cam import CamSpec, kinematics, rotate
 from .followers import Kinematics
-from .lift import TWO_PI
+from .lift import TWO_PI, Lift
 from .points import chord_convexity
 
 #: grid over one cam turn used to bracket the extremes of the checks
@@ -58,7 +58,7 @@ class ProfileChecks:
 
 # ---------------------------------------------------------------- exact extremes
 def check_grid(spec: CamSpec, n: int = CHECK_GRID) -> FloatArray:
-    """A fine grid over [0, 2π) with every break point and its left neighbour.
+    """:func:`lift_check_grid` of the cam's lift.
 
     Parameters
     ----------
@@ -70,16 +70,38 @@ def check_grid(spec: CamSpec, n: int = CHECK_GRID) -> FloatArray:
     Returns
     -------
     ndarray
+        Sorted, distinct cam angles [rad].
+
+    References
+    ----------
+    Kiefer (1953), golden-section search.
+    """
+    return lift_check_grid(spec.lift, n)
+
+
+def lift_check_grid(lift: Lift, n: int = CHECK_GRID) -> FloatArray:
+    """A fine grid over [0, 2π) with every break point of the lift and its left neighbour.
+
+    Parameters
+    ----------
+    lift : Lift
+        The lift over one cam turn (a plate cam's, a barrel cam's).
+    n : int
+        Evenly spaced points before the break points are added [-].
+
+    Returns
+    -------
+    ndarray
         Sorted, distinct cam angles [rad]: no jump of the lift's derivatives lies strictly
-        between neighbours, so a golden-section refinement between them sees a smooth function.
+        between neighbours, so a refinement between them sees a smooth function.
 
     References
     ----------
     J. Kiefer, "Sequential minimax search for a maximum", Proc. AMS 4 (1953) 502-506
-    (golden-section search, which needs a unimodal function between the grid points).
+    (a unimodal function between the grid points).
     """
     base = np.linspace(0.0, TWO_PI, n, endpoint=False)
-    br = np.asarray(spec.lift.breaks_rad, dtype=np.float64)
+    br = np.asarray(lift.breaks_rad, dtype=np.float64)
     left = np.mod(br - 1e-10, TWO_PI)
     return np.unique(np.concatenate([base, br, left]))
 
@@ -131,6 +153,29 @@ def corners(spec: CamSpec, grid: LiftGrid | None = None) -> list[float]:
     Returns
     -------
     list of float
+        :func:`lift_corners` of the cam's lift [deg].
+
+    References
+    ----------
+    Bezier valve-cam notes, convexity test (a corner fails it).
+    """
+    return lift_corners(spec.lift, None if grid is None else grid.lift[1])
+
+
+def lift_corners(lift: Lift, slope_on_grid: FloatArray | None = None) -> list[float]:
+    """Cam angles where a lift's velocity jumps (a plate cam's surface, a barrel cam's groove
+    has a corner there) [deg].
+
+    Parameters
+    ----------
+    lift : Lift
+        The lift over one cam turn.
+    slope_on_grid : ndarray, optional
+        dh/dθ on a check grid, if the caller has it (it gives the scale) [mm/rad or deg/rad].
+
+    Returns
+    -------
+    list of float
         The break points where dh/dθ jumps by more than 1e-6 of max(1, its largest |value|) [deg].
 
     References
@@ -138,12 +183,12 @@ def corners(spec: CamSpec, grid: LiftGrid | None = None) -> list[float]:
     Bezier valve-cam notes, convexity test (a corner fails it); Makino (1977), eqs. (1)-(9)
     (the break points where a curve's derivatives may jump).
     """
-    br = np.asarray(spec.lift.breaks_rad, dtype=np.float64)
+    br = np.asarray(lift.breaks_rad, dtype=np.float64)
     if br.size == 0:
         return []
-    right = spec.lift.derivatives(br, 1)
-    left = spec.lift.derivatives(br - 1e-9, 1)
-    h1 = spec.lift.derivatives(check_grid(spec, 720), 1)[1] if grid is None else grid.lift[1]
+    right = lift.derivatives(br, 1)
+    left = lift.derivatives(br - 1e-9, 1)
+    h1 = lift.derivatives(lift_check_grid(lift, 720), 1)[1] if slope_on_grid is None else slope_on_grid
     scale = max(1.0, float(np.abs(h1).max()))
     jump = np.abs(right[1] - left[1]) > 1e-6 * scale
     return [float(np.degrees(b)) for b in br[jump]]

@@ -18,12 +18,10 @@ from numpy.typing import ArrayLike
 from ..._maxima import periodic_grid_max
 from ...curves.base import FloatArray
 from ...errors import InvalidParameterError
-from ...profile.lift import Lift
+from ...profile.checks import lift_corners as corners
 from ...results import doc
 from .geometry import BarrelCam, _curvature, _pitch_x, _pressure, _State, _state, check_grid, flank_points
 
-#: a break point's derivative jump is a corner when it exceeds this fraction of the largest |dy/dθ|
-CORNER_JUMP = 1e-6
 #: radii evenly across the roller's length (ends included) where the checks draw the developed curve
 ACROSS_LENGTH = 9
 
@@ -139,31 +137,6 @@ def barrel_profile(cam: BarrelCam, cam_angle_deg: ArrayLike, length_samples: int
                         np.degrees(_pressure(cam, st, x_in)), np.degrees(_pressure(cam, st, x_out)),
                         np.where(finite, rho_p, np.nan), positions, flanks["upper"], flanks["lower"],
                         barrel_checks(cam))
-
-
-def corners(lift: Lift) -> list[float]:
-    """Cam angles where the lift's velocity jumps: the groove's centreline has a corner [deg].
-
-    Parameters
-    ----------
-    lift : Lift
-        The lift over one cam turn.
-
-    Returns
-    -------
-    list of float
-        The break points where dh/dθ jumps by more than 1e-6 of max(1, its largest |value|) [deg].
-
-    References
-    ----------
-    camcore.profile.checks.corners, the same test for plate cams.
-    """
-    br = np.asarray(lift.breaks_rad, dtype=np.float64)
-    if br.size == 0:
-        return []
-    right, left = lift.derivatives(br, 1)[1], lift.derivatives(br - 1e-9, 1)[1]
-    scale = max(1.0, float(np.abs(lift.derivatives(check_grid(lift, 720), 1)[1]).max()))
-    return [float(np.degrees(b)) for b in br[np.abs(right - left) > CORNER_JUMP * scale]]
 
 
 def barrel_checks(cam: BarrelCam) -> BarrelChecks:

@@ -20,13 +20,12 @@ from ..._maxima import periodic_grid_max
 from ...curves.base import FloatArray
 from ...errors import CamError, GeometryError, InvalidParameterError
 from ...motion.program import MotionProgram
-from ...profile.lift import TWO_PI, Lift, LiftSchedule, MotionLift, Segment
+from ...profile.checks import lift_check_grid as check_grid
+from ...profile.lift import Lift, LiftSchedule, MotionLift, Segment
 
 Roller = Literal["cylindrical", "conical"]
 FollowerMotion = Literal["translating", "oscillating"]
 
-#: grid over one cam turn that brackets the extremes of the checks (as the plate cam's checks)
-CHECK_GRID = 7200
 #: largest arm angle [deg]: at 90° the roller would move along the cam axis no more
 MAX_ARM_ANGLE_DEG = 89.0
 
@@ -213,32 +212,6 @@ def _check_arm(cam: BarrelCam) -> None:
             f"at an arm angle of {worst!r}° the roller's axis lies {offset!r} mm off the cam axis, beyond the radius of "
             f"the roller's inner end ({cam.roller_ends_mm[0]!r} mm): shorten arm_length_mm or reduce the swing.",
             field=("arm_length_mm",))
-
-
-def check_grid(lift: Lift, n: int = CHECK_GRID) -> FloatArray:
-    """A fine grid over [0, 2π) with every break point of the lift and its left neighbour.
-
-    Parameters
-    ----------
-    lift : Lift
-        The lift over one cam turn.
-    n : int
-        Evenly spaced points before the break points are added [-].
-
-    Returns
-    -------
-    ndarray
-        Sorted, distinct cam angles [rad]: no jump of a derivative lies strictly between
-        neighbours, so a golden-section refinement between them sees a smooth function.
-
-    References
-    ----------
-    Kiefer (1953), golden-section search (a unimodal function between grid points);
-    camcore.profile.checks.check_grid, the same grid for plate cams.
-    """
-    base = np.linspace(0.0, TWO_PI, n, endpoint=False)
-    br = np.asarray(lift.breaks_rad, dtype=np.float64)
-    return np.unique(np.concatenate([base, br, np.mod(br - 1e-10, TWO_PI)]))
 
 
 # ---------------------------------------------------------------------------- kinematics
