@@ -13,16 +13,9 @@ import asyncio
 import itertools
 import json
 import os
-import platform
-import re
 import shutil
-import signal
-import socket
 import statistics
-import subprocess
-import sys
 import tempfile
-import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -34,71 +27,21 @@ import camcore
 from camcore.indexer import Indexer, Load, size
 from camcore.indexer.sweep import size_sweep
 
-from . import scalar_port
+from . import peers, request_rates, scalar_port
+from .servers import PINNING, WRK_MISSING, Server, wrk
+from .timing import figure, machine_info, paired_ratios, timed
 
 ROOT = Path(__file__).resolve().parent.parent
 MS_BREAK_POINTS = [0.0, 0.125, 0.125, 0.5, 0.5, 0.875, 0.875, 1.0]
 TABLE_BODY = {"curve": {"type": "named", "name": "MS"}, "samples": 101}
 
 FIGURES = [
-    "table_vs_sin_floor", "scalar_port_vs_table", "inverse_vs_table", "json_vs_orjson_floor",
-    "http_table_vs_ceiling", "http_p99_ms", "workers_scaling", "sizing_sweep", "sweep_vs_single_sizings",
+    "table_vs_sin_floor", "scalar_port_vs_table", "inverse_vs_table", "ms_table_vs_numpy", "cycloid_table_vs_mechanism",
+    "json_vs_orjson_floor", "http_table_vs_ceiling", "http_p99_ms", "workers_scaling", "profile_rps",
+    "characteristics_new_curve_rps", "sizing_rps", "base_circle_ms", "cold_start_vs_bare_fastapi", "sizing_sweep",
+    "sweep_vs_single_sizings",
 ]
-
-
-# --------------------------------------------------------------------------- helpers
-def _timed(fn: Callable[[], Any]) -> float:
-    start = time.perf_counter()
-    fn()
-    return time.perf_counter() - start
-
-
-def paired_ratios(baseline: Callable[[], Any], subject: Callable[[], Any], repeats: int,
-                  invert: bool = False) -> tuple[list[float], float, float]:
-    """Per-pair ratios subject/baseline (baseline/subject when ``invert``), after one warm-up.
-
-    Returns the ratios and the median times of baseline and subject [s].
-    """
-    baseline()
-    subject()
-    ratios, tb, ts = [], [], []
-    for _ in range(repeats):
-        b = _timed(baseline)
-        s = _timed(subject)
-        tb.append(b)
-        ts.append(s)
-        ratios.append(b / s if invert else s / b)
-    return ratios, statistics.median(tb), statistics.median(ts)
-
-
-def figure(ratios: list[float], target: str, **extra: Any) -> dict[str, Any]:
-    """median/min/max of the ratios and whether the median meets ``target`` ("<= 3", ">= 80")."""
-    med = statistics.median(ratios)
-    op, bound = target.split()
-    met = med <= float(bound) if op == "<=" else med >= float(bound)
-    return {"median": round(med, 4), "min": round(min(ratios), 4), "max": round(max(ratios), 4),
-            "runs": len(ratios), "target": target, "met": bool(met), **extra}
-
-
-def machine_info() -> dict[str, Any]:
-    model = platform.processor() or "unknown"
-    try:
-        out = subprocess.run(["lscpu"], capture_output=True, text=True, timeout=10).stdout
-        m = re.search(r"Model name:\s*(.+)", out)
-        if m:
-            model = m.group(1).strip()
-    except (OSError, subprocess.SubprocessError):
-        pass
-    return {
-        "cpu_model": model,
-        "cpus": os.cpu_count(),
-        "loadavg_at_start": [round(x, 2) for x in os.getloadavg()],
-        "python": platform.python_version(),
-        "numpy": np.__version__,
-        "orjson": orjson.__version__,
-        "platform": platform.platform(),
-        "date": time.strftime("%Y-%m-%d"),
-    }
+REQUEST_FIGURES = {"profile_rps", "characteristics_new_curve_rps", "sizing_rps", "base_circle_ms"}
 
 
 # --------------------------------------------------------------------------- core figures
@@ -129,14 +72,14 @@ def scalar_port_vs_table(n: int, repeats: int) -> dict[str, Any]:
     # after the port's long run: each pair times camcore as the mean of back-to-back calls
     # filling ~20 ms (its first call, right after the port, is reported beside it)
     def camcore_calls() -> list[float]:
-        return [_timed(lambda: ms.derivatives(t, 3)) for _ in range(loops)]
+        return [timed(lambda: ms.derivatives(t, 3)) for _ in range(loops)]
 
-    loops = max(1, min(50, int(0.02 / max(_timed(lambda: ms.derivatives(t, 3)), 1e-6))))
+    loops = max(1, min(50, int(0.02 / max(timed(lambda: ms.derivatives(t, 3)), 1e-6))))
     camcore_calls()
     ratios, camcore_mean, first_call, port = [], [], [], []
     for _ in range(repeats):
         calls = camcore_calls()
-        port.append(_timed(lambda: scalar_port.table(t_list, MS_BREAK_POINTS)))
+        port.append(timed(lambda: scalar_port.table(t_list, MS_BREAK_POINTS)))
         camcore_mean.append(statistics.mean(calls))
         first_call.append(calls[0])
         ratios.append(port[-1] / camcore_mean[-1])
@@ -161,11 +104,19 @@ def inverse_vs_table(n: int, repeats: int) -> dict[str, Any]:
     # the figure times a curve whose start table exists; a new curve builds it on its first
     # inverse (the service keeps built curves in its cache): what that first call costs
     cold = statistics.median(
-        _timed(lambda: camcore.universal_curve(MS_BREAK_POINTS).inverse(s)) for _ in range(min(repeats, 5))
+        timed(lambda: camcore.universal_curve(MS_BREAK_POINTS).inverse(s)) for _ in range(min(repeats, 5))
     )
+    # sorted targets walk the start table in order; random ones (a lookup service's traffic) do
+    # not, and take longer: the same n S values shuffled, with V and A from the solve
+    shuffled = np.random.default_rng(0).permutation(s)
+    random_ratios, _, tr = paired_ratios(lambda: ms.derivatives(t, 3), lambda: ms.inverse_with_rates(shuffled),
+                                         repeats)
     return figure(ratios, "<= 5", points=n, forward_ms=round(tb * 1e3, 3), inverse_ms=round(ts * 1e3, 3),
                   first_inverse_new_curve_ms=round(cold * 1e3, 3), max_abs_s_residual=err_s,
-                  what="exact inverse T(S) of n S values ÷ forward table (S, V, A, J) of n points")
+                  random_targets_ratio=round(statistics.median(random_ratios), 4),
+                  random_targets_with_rates_ms=round(tr * 1e3, 3),
+                  what="exact inverse T(S) of n sorted S values ÷ forward table (S, V, A, J) of n points; "
+                       "random_targets_ratio: the same S values shuffled, T with V and A (inverse_with_rates)")
 
 
 def json_vs_orjson_floor(n: int, repeats: int) -> dict[str, Any]:
@@ -246,81 +197,6 @@ def sweep_vs_single_sizings(repeats: int) -> dict[str, Any]:
 
 
 # --------------------------------------------------------------------------- HTTP figures
-WRK_MISSING = "wrk not installed: apt-get install wrk"
-PINNING = ("2 cores: the server runs under `taskset -c 0` with 1 worker and `taskset -c 0,1` with 2 "
-           "workers; wrk runs with 1 thread under `taskset -c 1` (it shares core 1 with the second worker)")
-
-
-def _free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        return int(sock.getsockname()[1])
-
-
-class Server:
-    """``python -m service`` on 127.0.0.1 and a free port, pinned with taskset; stopped on exit."""
-
-    def __init__(self, workers: int, cpus: str, **settings: str):
-        self.port = _free_port()
-        # the figures time computation and HTTP, not admission: no computation is turned away
-        # for its wait (with the default 0.5 s, 32 connections of uncached tables shed some)
-        env = {**os.environ, "CAMCORE_HOST": "127.0.0.1", "CAMCORE_PORT": str(self.port),
-               "CAMCORE_WORKERS": str(workers), "CAMCORE_LOG_LEVEL": "warning", "CAMCORE_MAX_QUEUE_WAIT_S": "60",
-               **settings}
-        cmd = [sys.executable, "-m", "service"]
-        if shutil.which("taskset"):
-            cmd = ["taskset", "-c", cpus, *cmd]
-        self.proc = subprocess.Popen(cmd, cwd=ROOT, env=env, start_new_session=True,
-                                     stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-        self.url = f"http://127.0.0.1:{self.port}"
-
-    def __enter__(self) -> Server:
-        import httpx
-
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline:
-            if self.proc.poll() is not None:
-                raise RuntimeError(f"server exited: {self.proc.stderr.read().decode()[-2000:]}")  # type: ignore[union-attr]
-            try:
-                if httpx.get(self.url + "/health", timeout=1).status_code == 200:
-                    return self
-            except httpx.HTTPError:
-                pass
-            time.sleep(0.2)
-        self.__exit__()
-        raise RuntimeError("server did not answer /health within 60 s")
-
-    def __exit__(self, *_exc: Any) -> None:
-        if self.proc.poll() is None:
-            os.killpg(self.proc.pid, signal.SIGTERM)  # the server's own session: it and its workers
-            try:
-                self.proc.wait(timeout=15)
-            except subprocess.TimeoutExpired:
-                os.killpg(self.proc.pid, signal.SIGKILL)
-                self.proc.wait(timeout=5)
-
-
-_UNITS = {"us": 1e-3, "ms": 1.0, "s": 1e3}
-
-
-def wrk(url: str, seconds: int, lua: str | None = None) -> dict[str, float]:
-    """One wrk run (1 thread, 32 connections, pinned to core 1): req/s and p99 latency [ms]."""
-    cmd = ["wrk", "-t1", "-c32", f"-d{seconds}s", "--latency"]
-    if lua:
-        cmd += ["-s", lua]
-    if shutil.which("taskset"):
-        cmd = ["taskset", "-c", "1", *cmd]
-    out = subprocess.run([*cmd, url], capture_output=True, text=True, timeout=seconds + 60).stdout
-    rps = re.search(r"Requests/sec:\s*([\d.]+)", out)
-    p99 = re.search(r"^\s*99%\s+([\d.]+)(us|ms|s)\s*$", out, re.MULTILINE)
-    errors = re.search(r"Non-2xx or 3xx responses:\s*(\d+)", out)
-    if not rps or not p99:
-        raise RuntimeError(f"could not read wrk output:\n{out}")
-    if errors:
-        raise RuntimeError(f"wrk saw error responses:\n{out}")
-    return {"rps": float(rps.group(1)), "p99_ms": float(p99.group(1)) * _UNITS[p99.group(2)]}
-
-
 def http_figures(seconds: int, runs: int) -> dict[str, Any]:
     if not shutil.which("wrk"):
         return {name: {"skipped": WRK_MISSING} for name in ("http_table_vs_ceiling", "http_p99_ms", "workers_scaling")}
@@ -385,6 +261,9 @@ def run(smoke: bool, only: set[str] | None) -> dict[str, Any]:
         "json_vs_orjson_floor": lambda: json_vs_orjson_floor(sizes["json"], r),
         "sizing_sweep": lambda: sizing_sweep(sizes["sizing"], 1 if smoke else 5),
         "sweep_vs_single_sizings": lambda: sweep_vs_single_sizings(1 if smoke else 15),
+        "ms_table_vs_numpy": lambda: peers.ms_table_vs_numpy(sizes["table"], r),
+        "cycloid_table_vs_mechanism": lambda: peers.cycloid_table_vs_mechanism(sizes["table"], r),
+        "cold_start_vs_bare_fastapi": lambda: request_rates.cold_start(1 if smoke else 5),
     }
     out: dict[str, Any] = {"mode": "smoke" if smoke else "full", "machine": machine_info()}
     figures: dict[str, Any] = {}
@@ -394,6 +273,8 @@ def run(smoke: bool, only: set[str] | None) -> dict[str, Any]:
     http_names = {"http_table_vs_ceiling", "http_p99_ms", "workers_scaling"}
     if only is None or only & http_names:
         figures.update(http_figures(sizes["http_seconds"], sizes["http_runs"]))
+    if only is None or only & REQUEST_FIGURES:
+        figures.update(request_rates.request_figures(sizes["http_seconds"], sizes["http_runs"], 3 if smoke else 20))
     out["figures"] = {name: figures[name] for name in FIGURES if name in figures}
     out["machine"]["loadavg_at_end"] = [round(x, 2) for x in os.getloadavg()]
     return out

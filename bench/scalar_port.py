@@ -125,10 +125,8 @@ class MakinoCurve:
             v = -v
             ajk = -ajk
         q = v * a  # 499
-        if q > self.qmp:
-            self.qmp = q
-        if q < self.qmm:
-            self.qmm = q
+        self.qmp = max(self.qmp, q)
+        self.qmm = min(self.qmm, q)
         return s, v, a, ajk, q
 
 

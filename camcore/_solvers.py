@@ -4,11 +4,11 @@
   regula falsi); used for the extrema of curves and of the indexer's power balance.
 - :func:`bracketed_newton`: an increasing function inverted at many targets at once
   (vectorised safeguarded Newton); used for the inverse's start tables and for Bezier
-  parameters.
+  parameters. :func:`newton_roots` is the same for bracketed roots with exact
+  derivatives; used for the extrema of curves and of the indexer's power balance.
 - :func:`smallest_feasible`: the smallest x where a margin that grows with x reaches 0
   (scalar Illinois regula falsi after a doubling bracket); used for base-circle sizing.
-- :func:`golden_max`: the maximum of a unimodal function on an interval; used to refine
-  the extremes of a profile's checks between grid points.
+- maxima of unimodal and periodic functions (golden section, local grids): :mod:`camcore._maxima`.
 
 The exact inverse of a curve (:mod:`camcore.curves.inverse`) has its own Newton loop,
 specialised for speed (per-cell start tables, block-wise evaluation); it is not repeated
@@ -18,8 +18,6 @@ References
 ----------
 .. [1] M. Dowell, P. Jarratt, "A modified regula falsi method for computing the root of an
    equation", BIT 11 (1971) 168-174 (the Illinois method).
-.. [2] J. Kiefer, "Sequential minimax search for a maximum", Proc. AMS 4 (1953) 502-506
-   (golden-section search).
 """
 
 from __future__ import annotations
@@ -41,11 +39,6 @@ ILLINOIS_MAX_ITERATIONS = 200
 #: iterations of bracketed Newton: bisection alone halves a unit bracket 52 times
 NEWTON_MAX_ITERATIONS = 100
 
-#: golden-section steps: 0.618^80 ≈ 2e-17 of the starting interval
-GOLDEN_ITERATIONS = 80
-
-#: width [rad] to which :func:`periodic_grid_max` refines an extreme of a function of the cam angle
-PERIODIC_WIDTH = 1e-9
 
 
 def illinois_roots(f: Callable[[FloatArray, NDArray[np.intp]], FloatArray], lo: FloatArray, hi: FloatArray,
@@ -134,6 +127,13 @@ def bracketed_newton(value_and_slope: Callable[[FloatArray], tuple[FloatArray, F
     A target stops at an exact hit, a residual at the noise level, a step or a bracket
     of 4 ulp, after at most ``NEWTON_MAX_ITERATIONS`` steps.
     """
+    return _newton(lambda x, _which: value_and_slope(x), goal, start, lo, hi, noise)
+
+
+def _newton(value_and_slope: Callable[[FloatArray, NDArray[np.intp]], tuple[FloatArray, FloatArray]],
+            goal: FloatArray, start: FloatArray, lo: FloatArray, hi: FloatArray, noise: float) -> FloatArray:
+    """The loop of :func:`bracketed_newton`; ``value_and_slope(x, which)`` also gets the indices
+    of the targets still moving."""
     x = start.copy()
     active = np.ones(goal.shape, dtype=bool)
     for _ in range(NEWTON_MAX_ITERATIONS):
@@ -142,7 +142,7 @@ def bracketed_newton(value_and_slope: Callable[[FloatArray], tuple[FloatArray, F
             break
         ia = np.nonzero(active)[0]
         xa = x[ia]
-        value, slope = value_and_slope(xa)
+        value, slope = value_and_slope(xa, ia)
         f = value - goal[ia]
         lo_a = np.where(f < 0, xa, lo[ia])
         hi_a = np.where(f > 0, xa, hi[ia])
@@ -157,6 +157,50 @@ def bracketed_newton(value_and_slope: Callable[[FloatArray], tuple[FloatArray, F
         hi[ia] = hi_a
         active[ia[done]] = False
     return x
+
+
+def newton_roots(value_and_slope: Callable[[FloatArray, NDArray[np.intp]], tuple[FloatArray, FloatArray]],
+                 lo: FloatArray, hi: FloatArray, f_lo: FloatArray, f_hi: FloatArray,
+                 label: NDArray[np.intp]) -> FloatArray:
+    """Roots of many bracketed functions with exact derivatives, all refined together.
+
+    Parameters
+    ----------
+    value_and_slope : callable
+        ``(t, label) -> (f, f')``: every function and its derivative at its own t; ``label``
+        is passed through (which function, on which smooth piece).
+    lo, hi, f_lo, f_hi : ndarray
+        Brackets and the function's values at their ends (signs differ); ``lo`` and ``hi``
+        are overwritten.
+    label : ndarray of int
+        One label per bracket.
+
+    Returns
+    -------
+    ndarray
+        One root per bracket, to 4 ulp of max(|t|, 1).
+
+    Notes
+    -----
+    Safeguarded Newton (:func:`bracketed_newton` on f oriented to increase across its
+    bracket) from the chord's zero: three or four evaluations from a grid cell where the
+    Illinois method takes five to ten.
+
+    References
+    ----------
+    Press et al., Numerical Recipes, 3rd ed. (2007), §9.4 (Newton-Raphson with bisection
+    safeguard, rtsafe).
+    """
+    orient = np.where(f_hi > f_lo, 1.0, -1.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        chord = lo - f_lo * ((hi - lo) / (f_hi - f_lo))
+    start = np.clip(np.where(np.isfinite(chord), chord, 0.5 * (lo + hi)), lo, hi)
+
+    def oriented(t: FloatArray, which: NDArray[np.intp]) -> tuple[FloatArray, FloatArray]:
+        value, slope = value_and_slope(t, label[which])
+        return orient[which] * value, orient[which] * slope
+
+    return _newton(oriented, np.zeros(lo.shape), start, lo, hi, 0.0)
 
 
 class NoFeasiblePointError(ValueError):
@@ -234,91 +278,6 @@ def smallest_feasible(margin: Callable[[float], float], lo: float, start: float,
                 f_b *= 0.5
             side = -1
     return b
-
-
-def golden_max(fun: Callable[[FloatArray], FloatArray], a: float | FloatArray, b: float | FloatArray,
-               iterations: int = GOLDEN_ITERATIONS, width: float = 1e-13) -> tuple[FloatArray, FloatArray]:
-    """Maxima of unimodal functions on intervals [a, b] by golden-section search, all
-    intervals refined together (one call of ``fun`` per step for all of them).
-
-    Parameters
-    ----------
-    fun : callable
-        Vectorised function, evaluated elementwise (lane i only ever sees points of
-        interval i, so each lane is the scalar search it replaces).
-    a, b : float or ndarray
-        The intervals' ends [-].
-    iterations : int
-        At most this many steps [-].
-    width : float
-        A lane stops shrinking once its interval is narrower than this [-].
-
-    Returns
-    -------
-    (ndarray, ndarray)
-        The best point of each interval and the value there [-].
-
-    References
-    ----------
-    Kiefer (1953), golden-section search.
-    """
-    checkpoint()
-    g = (math.sqrt(5.0) - 1.0) / 2.0
-    lo = np.atleast_1d(np.asarray(a, dtype=np.float64)).copy()
-    hi = np.atleast_1d(np.asarray(b, dtype=np.float64)).copy()
-    x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
-    f1, f2 = fun(x1), fun(x2)
-    for _ in range(iterations):
-        active = hi - lo >= width
-        if not active.any():
-            break
-        right = active & (f1 < f2)  # the maximum lies in [x1, hi]: drop [lo, x1)
-        left = active & ~right
-        lo, hi = np.where(right, x1, lo), np.where(left, x2, hi)
-        x1, f1, x2, f2 = np.where(right, x2, x1), np.where(right, f2, f1), np.where(left, x1, x2), np.where(left, f1, f2)
-        new = np.where(right, lo + g * (hi - lo), hi - g * (hi - lo))
-        f_new = fun(new)
-        x2, f2 = np.where(right, new, x2), np.where(right, f_new, f2)
-        x1, f1 = np.where(left, new, x1), np.where(left, f_new, f1)
-    better_first = f1 >= f2
-    return np.where(better_first, x1, x2), np.where(better_first, f1, f2)
-
-
-def periodic_grid_max(fun: Callable[[FloatArray], FloatArray], grid: FloatArray, breaks: FloatArray,
-                      period: float = 2 * math.pi) -> tuple[float, float]:
-    """Maximum of a periodic function: the best grid point, refined by golden section
-    between its neighbours.
-
-    Parameters
-    ----------
-    fun : callable
-        Vectorised function of the angle [rad]; non-finite values count as −inf.
-    grid : ndarray
-        Sorted points over one period; it must hold every point where ``fun`` may jump
-        and that point's left neighbour, so no jump lies inside a refined interval.
-    breaks : ndarray
-        The jump points (documentation of the grid's contract; not used otherwise).
-    period : float
-        The period [rad].
-
-    Returns
-    -------
-    (float, float)
-        The angle of the maximum (in [0, period)) and the maximum.
-    """
-    vals = fun(grid)
-    vals = np.where(np.isfinite(vals), vals, -np.inf)
-    i = int(np.argmax(vals))
-    best_t, best_v = float(grid[i]), float(vals[i])
-    lo = float(grid[i - 1]) if i > 0 else float(grid[-1]) - period
-    hi = float(grid[i + 1]) if i + 1 < len(grid) else float(grid[0]) + period
-    # both neighbouring intervals at once; an angle to 1e-9 rad puts the value within
-    # ½|f''|·1e-18 of the maximum, below the rounding of f itself
-    t, v = golden_max(fun, np.array([lo, best_t]), np.array([best_t, hi]), width=PERIODIC_WIDTH)
-    for ti, vi in zip(t.tolist(), v.tolist()):
-        if vi > best_v:
-            best_t, best_v = ti, vi
-    return float(np.mod(best_t, period)), best_v
 
 
 def scan_roots(fun: Callable[[FloatArray], FloatArray], grid: FloatArray) -> tuple[list[float], FloatArray]:

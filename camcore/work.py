@@ -24,15 +24,16 @@ from .curves.kinds import CLOSED_FORM_COST, CURVE_KINDS, LawCost
 
 Field = tuple[str | int, ...]
 
-#: profile checks (largest pressure angle, smallest radius of curvature): measured 12.5 ms
-#: for 4 segments, 26 ms for 36, 0.26 s for 360 (a per-segment step in every evaluation of
-#: the lift), 0.70 s for 360 Bezier segments of degree 20; ×1.5
-CHECKS_FIXED_S = 1.5 * 0.010
-CHECKS_PER_SEGMENT_S = 1.5 * 0.0007
-#: law evaluations of one check per segment (its share of the golden-section steps) and
-#: in all (the 7 200-point grid, three times)
-CHECKS_SAMPLES_PER_SEGMENT = 800
-CHECKS_SAMPLES = 25_000
+#: profile checks (largest pressure angle, smallest radius of curvature; every extreme refined
+#: by the same local grids): measured 3.2 ms for 4 MS segments, 8.0 ms for 36, 48 ms for 360
+#: (a per-segment step in every evaluation of the lift), 35 ms for 36 Bezier segments of degree
+#: 20 and 0.24 s for 360; fitted as 2.5 ms + 0.12 ms per segment + the law evaluations below, ×1.5
+CHECKS_FIXED_S = 1.5 * 0.0025
+CHECKS_PER_SEGMENT_S = 1.5 * 0.00012
+#: law evaluations of one check per segment (its share of the local-grid rounds) and in all
+#: (the 7 200-point grid once)
+CHECKS_SAMPLES_PER_SEGMENT = 350
+CHECKS_SAMPLES = 7_000
 #: one sampled profile angle: lift, kinematics and the columns (0.5 µs measured), ×1.5
 PROFILE_SAMPLE_S = 1.5 * 5e-7
 #: profile checks per base-circle limit: the solver's evaluations (bracket, then Illinois
@@ -167,6 +168,15 @@ def checks_work(laws: Sequence[LawCost | None], field: Field) -> WorkEstimate:
     return WorkEstimate((WorkTerm(field, f"the profile checks of {len(costs)} segments", seconds),))
 
 
+def _dynamics_extremes_s(laws: Sequence[LawCost | None]) -> float:
+    """The extremes of the follower dynamics over the turn [s] (golden-section searches, see
+    :data:`DYNAMICS_PER_CHECKS`)."""
+    costs = [(law or CLOSED_FORM_COST).sample_s for law in laws] or [CLOSED_FORM_COST.sample_s]
+    checks = (DYNAMICS_CHECKS_FIXED_S + DYNAMICS_CHECKS_PER_SEGMENT_S * len(costs)
+              + 1.5 * (DYNAMICS_CHECKS_SAMPLES_PER_SEGMENT * sum(costs) + DYNAMICS_CHECKS_SAMPLES * max(costs)))
+    return DYNAMICS_PER_CHECKS * checks
+
+
 def profile_work(laws: Sequence[LawCost | None], samples: int, segments_field: Field,
                  samples_field: Field) -> WorkEstimate:
     """A sampled plate-cam profile with its checks (the curves built apart).
@@ -265,9 +275,14 @@ def motion_work(laws: Sequence[LawCost | None], solved: int, rows: int, segments
 
 
 #: follower dynamics (camcore.profile.dynamics): one grid over the turn, one golden-section search
-#: for every extreme at once, and the RMS quadrature; measured 0.6-2.1 times the checks estimate
-#: (:func:`checks_work`) of the same cam (4-360 cycloid or degree-20 Bezier segments), ×1.2
+#: for every extreme at once, and the RMS quadrature; measured 0.6-2.1 times the golden-section
+#: checks' estimate below (the checks before they moved to local grids) of the same cam (4-360
+#: cycloid or degree-20 Bezier segments), ×1.2
 DYNAMICS_PER_CHECKS = 2.5
+DYNAMICS_CHECKS_FIXED_S = 1.5 * 0.010
+DYNAMICS_CHECKS_PER_SEGMENT_S = 1.5 * 0.0007
+DYNAMICS_CHECKS_SAMPLES_PER_SEGMENT = 800
+DYNAMICS_CHECKS_SAMPLES = 25_000
 
 
 def dynamics_work(laws: Sequence[LawCost | None], samples: int, segments_field: Field,
@@ -292,7 +307,7 @@ def dynamics_work(laws: Sequence[LawCost | None], samples: int, segments_field: 
     ----------
     camcore.profile.dynamics; the measurements beside :data:`DYNAMICS_PER_CHECKS`.
     """
-    extremes = DYNAMICS_PER_CHECKS * checks_work(laws, segments_field).seconds
+    extremes = _dynamics_extremes_s(laws)
     slowest = max((law.sample_s for law in laws if law is not None), default=CLOSED_FORM_COST.sample_s)
     return WorkEstimate((WorkTerm(segments_field, f"the follower dynamics of {max(len(laws), 1)} segments",
                                   extremes),)) + per_item_work(samples, PROFILE_SAMPLE_S + slowest, samples_field,

@@ -1,6 +1,6 @@
-"""The camcore HTTP service (FastAPI), a thin layer over the ``camcore`` library."""
+"""The camcore HTTP service (FastAPI), a thin layer over the ``camcore`` library.
 
-from service.app import create_app
-from service.settings import Settings
-
-__all__ = ["Settings", "create_app"]
+``service.app.create_app`` builds the app and ``service.main:app`` is the served one; this
+package imports neither, so ``python -m service`` (the parent of the workers) starts without
+importing the app it does not serve.
+"""

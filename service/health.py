@@ -10,8 +10,10 @@ from starlette.responses import Response
 
 import camcore
 from service.curves.service import CurveService
+from service.indexers.service import IndexerService
+from service.profiles.service import ProfileService
 
-from .deps import curve_service
+from .deps import curve_service, indexer_service, profile_service
 from .responses import JSONBody
 from .routing import OrjsonRoute
 
@@ -26,12 +28,17 @@ router = APIRouter(tags=["service"], route_class=OrjsonRoute)
 
 
 @router.get("/health", operation_id="getHealth", response_model=HealthAnswer)
-async def health(service: Annotated[CurveService, Depends(curve_service)]) -> Response:
+async def health(service: Annotated[CurveService, Depends(curve_service)],
+                 profiles: Annotated[ProfileService, Depends(profile_service)],
+                 indexers: Annotated[IndexerService, Depends(indexer_service)]) -> Response:
     """Liveness and version, with the caches' hit and miss counts."""
-    return JSONBody({"status": "ok", "version": camcore.__version__, "caches": service.cache_stats()})
+    caches = {**service.cache_stats(), **profiles.cache_stats(), **indexers.cache_stats()}
+    return JSONBody({"status": "ok", "version": camcore.__version__, "caches": caches})
 
 
 @router.head("/health", include_in_schema=False)
-async def health_head(service: Annotated[CurveService, Depends(curve_service)]) -> Response:
+async def health_head(service: Annotated[CurveService, Depends(curve_service)],
+                      profiles: Annotated[ProfileService, Depends(profile_service)],
+                      indexers: Annotated[IndexerService, Depends(indexer_service)]) -> Response:
     """The same answer without its body, for load balancers and probes that send HEAD."""
-    return await health(service)
+    return await health(service, profiles, indexers)

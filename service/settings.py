@@ -64,6 +64,9 @@ class Settings(BaseSettings):
     max_queue_wait_s: float = Field(0.5, gt=0, le=3600,
                                     description="a computation that would wait (or has waited) longer for a slot: 503")
     max_in_flight: int = Field(64, ge=1, le=100_000, description="requests in progress per worker; more: 503")
+    inline_work_s: float = Field(0.002, ge=0, le=0.05,
+                                 description="a computation estimated at most this long runs on the event loop "
+                                             "(no thread, slot or deadline: it costs less than they do)")
 
     # caches: bounded by entry count; tables are cached only up to a row count
     curve_cache_size: int = Field(512, ge=0)
@@ -71,6 +74,8 @@ class Settings(BaseSettings):
     table_cache_size: int = Field(256, ge=0)
     table_cache_max_rows: int = Field(10_001, ge=0)
     table_cache_max_bytes: int = Field(32 * 1024 * 1024, ge=0)
+    profile_checks_cache_size: int = Field(256, ge=0)
+    sizing_cache_size: int = Field(256, ge=0)
 
     # access control (off by default for local use)
     api_key: str | None = None

@@ -13,8 +13,10 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 FIGURES = {
-    "table_vs_sin_floor", "scalar_port_vs_table", "inverse_vs_table", "json_vs_orjson_floor",
-    "http_table_vs_ceiling", "http_p99_ms", "workers_scaling", "sizing_sweep", "sweep_vs_single_sizings",
+    "table_vs_sin_floor", "scalar_port_vs_table", "inverse_vs_table", "ms_table_vs_numpy", "cycloid_table_vs_mechanism",
+    "json_vs_orjson_floor", "http_table_vs_ceiling", "http_p99_ms", "workers_scaling", "profile_rps",
+    "characteristics_new_curve_rps", "sizing_rps", "base_circle_ms", "cold_start_vs_bare_fastapi", "sizing_sweep",
+    "sweep_vs_single_sizings",
 }
 
 
@@ -36,6 +38,10 @@ def test_bench_smoke_reports_every_figure() -> None:
         assert fig["min"] <= fig["median"] <= fig["max"], name
         assert fig["median"] > 0, name
     assert figures["scalar_port_vs_table"]["agrees_with_camcore"] is True
+    # the peers are compared only after they agree with camcore (the figure asserts 1e-14 of the peaks)
+    for peer in ("ms_table_vs_numpy", "cycloid_table_vs_mechanism"):
+        assert figures[peer]["agreement_of_peak"] <= 1e-14, peer
+    assert all(key in result["machine"]["cpu_features"] for key in ("AVX2", "AVX512F"))
 
 
 def _medians(markdown: str, heading: str) -> dict[str, str]:

@@ -216,3 +216,30 @@ def test_constant_displacement_is_not_invertible() -> None:
     curve = universal_curve((0, 0.125, 0.125, 0.5, 0.5, 0.875, 0.875, 1), s7=0.0)
     with pytest.raises(NonMonotoneError):
         curve.inverse(0.0)
+
+
+@pytest.mark.parametrize("name,curve", CASES, ids=IDS)
+def test_rates_from_the_solve_are_the_curve_at_the_answer(name: str, curve: camcore.Curve) -> None:
+    """Issue 21: V and A come out of the solve (the last Newton evaluation carried over the last
+    step by Taylor) instead of a second evaluation; they equal the curve evaluated afresh at the
+    same T. Random targets (unsorted), both stroke ends and the dwell-end cells."""
+    lo, hi = sorted((curve.s_start, curve.s_end))
+    rng = np.random.default_rng(21)
+    s = np.concatenate([rng.uniform(lo, hi, 20_000), [lo, hi], lo + (hi - lo) * np.logspace(-16, -3, 40),
+                        hi - (hi - lo) * np.logspace(-16, -3, 40)])
+    t, v, a = curve.inverse_with_rates(s)
+    np.testing.assert_array_equal(t, curve.inverse(s))  # the same answers as without the rates
+    _s, v_direct, a_direct = curve.derivatives(t, 2)
+    ch = curve.characteristics
+    # the Taylor terms left out are below 1e-15 of the peaks (|δ| ≤ 1e-9); what remains is
+    # the rounding of evaluating V and A at two different T. Sine family: measured ≤ 1.1e-15
+    # of Vm and Am, so 4e-15 (about 18 ulp of a unit peak). Polynomials: the monomial sums
+    # Σ k·c_k·T^(k−1) and Σ k(k−1)·c_k·T^(k−2) cancel from terms of up to Σ k|c_k| (1120 for
+    # 4-5-6-7), so twice that many eps, as s_tol does for S
+    v_tol, a_tol = 4e-15 * ch.vm.value, 4e-15 * max(ch.am, 1.0)
+    if name.removeprefix("return-") in POLY:
+        coef = CATALOG[name.removeprefix("return-")].parameters["coefficients"]
+        v_tol = 2 * EPS * sum(k * abs(c) for k, c in enumerate(coef))  # coefficients from T⁰ up
+        a_tol = 2 * EPS * sum(k * (k - 1) * abs(c) for k, c in enumerate(coef))
+    assert np.abs(v - v_direct).max() <= v_tol
+    assert np.abs(a - a_direct).max() <= a_tol

@@ -3,4 +3,8 @@
 and the index laws of :mod:`camcore.indexer`.
 """
 
-__all__: list[str] = []
+from .barrel import BarrelCam, BarrelChecks, BarrelResult, barrel_profile, make_barrel_cam, sample_barrel
+
+__all__: list[str] = [
+    "BarrelCam", "BarrelChecks", "BarrelResult", "barrel_profile", "make_barrel_cam", "sample_barrel",
+]

@@ -101,6 +101,18 @@ class Curve(PiecewiseCurve):
         stroke.validate_stroke(self, flat)
         return inverse.solve(self, self._inverse_grid, flat).reshape(s_arr.shape)
 
+    def inverse_with_rates(self, s: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """:meth:`inverse` with V and A at each answer, from the solve itself (its last Newton
+        evaluation carried over the last step, :func:`camcore.curves.inverse.solve`) instead
+        of a second evaluation of the curve."""
+        stroke.require_monotone(self, self.characteristics)
+        s_arr = np.asarray(s, dtype=np.float64)
+        flat = s_arr.reshape(-1)
+        stroke.validate_stroke(self, flat)
+        rates = (np.empty_like(flat), np.empty_like(flat))
+        t = inverse.solve(self, self._inverse_grid, flat, rates)
+        return t.reshape(s_arr.shape), rates[0].reshape(s_arr.shape), rates[1].reshape(s_arr.shape)
+
     def inverse_table(self, s: ArrayLike, step: float, decimals: int | None = None) -> CurveValues:
         """The catalog's method: proportional interpolation between rows of a table.
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._solvers import illinois_roots
+from .._solvers import illinois_roots, newton_roots
 from ..results import Extremum, doc
 from .base import FloatArray, PiecewiseCurve
 
@@ -53,7 +53,8 @@ class Characteristics:
     s_min: Extremum = field(metadata=doc("smallest S"))
 
 
-def critical_points(curve: PiecewiseCurve, slopes: Callable[[list[FloatArray]], FloatArray]
+def critical_points(curve: PiecewiseCurve, slopes: Callable[[list[FloatArray]], FloatArray],
+                    slope_derivatives: Callable[[list[FloatArray]], list[FloatArray | None]] | None = None,
                     ) -> tuple[FloatArray, NDArray[np.intp]]:
     """Times, with their pieces, where functions of the motion may peak over [T0, T7].
 
@@ -64,19 +65,22 @@ def critical_points(curve: PiecewiseCurve, slopes: Callable[[list[FloatArray]], 
     slopes : callable
         Maps [S, V, A, J, dJ/dT] at some times to the rows (one per function) of the
         functions' derivatives with respect to T.
+    slope_derivatives : callable, optional
+        Maps the same to each row's own derivative (None for a row without one).
 
     Returns
     -------
     (ndarray, ndarray)
         Candidate times T [-] and their pieces (indices) [-]: each piece's two ends
         (one-sided limits) and every interior root of every row, bracketed on a grid of all
-        pieces at once and refined by the Illinois method to machine precision. Evaluating a
-        function at these times with the returned pieces gives its exact extremes.
+        pieces at once and refined to machine precision: all rows with a derivative together
+        by safeguarded Newton, the others by the Illinois method.
 
     References
     ----------
     Makino (1977), characteristic values Vm, Am, Jm, Qm taken section by section;
-    Dowell and Jarratt (1971), the Illinois method (:func:`camcore._solvers.illinois_roots`).
+    Dowell and Jarratt (1971), the Illinois method (:func:`camcore._solvers.illinois_roots`);
+    Press et al. (2007), §9.4 (:func:`camcore._solvers.newton_roots`).
     """
     starts = curve.piece_starts
     ends = np.append(starts[1:], curve.t_end)
@@ -93,24 +97,47 @@ def critical_points(curve: PiecewiseCurve, slopes: Callable[[list[FloatArray]], 
 
     derivs = rows(grid.reshape(-1), kk)
     derivs = derivs.reshape(derivs.shape[0], n, per_piece)
+    has_slope = [False] * derivs.shape[0]
+    if slope_derivatives is not None:
+        nothing = curve.eval_pieces(np.empty(0), np.empty(0, dtype=np.intp), 4)
+        has_slope = [d is not None for d in slope_derivatives(nothing)]
     times = [starts, ends]
     pieces = [np.arange(n, dtype=np.intp), np.arange(n, dtype=np.intp)]
+    newton: list[tuple[FloatArray, FloatArray, FloatArray, FloatArray, NDArray[np.intp]]] = []
     for q, d in enumerate(derivs):
         sign = np.sign(d)
         k_idx, i_idx = np.nonzero(sign[:, :-1] * sign[:, 1:] < 0)
         if k_idx.size:
             lo, hi = grid[k_idx, i_idx].copy(), grid[k_idx, i_idx + 1].copy()
             f_lo, f_hi = d[k_idx, i_idx].copy(), d[k_idx, i_idx + 1].copy()
-            def row_q(t: FloatArray, k: NDArray[np.intp], row: int = q) -> FloatArray:
-                return rows(t, k)[row]
+            if has_slope[q]:
+                newton.append((lo, hi, f_lo, f_hi, q * n + k_idx))
+            else:
+                def row_q(t: FloatArray, k: NDArray[np.intp], row: int = q) -> FloatArray:
+                    return rows(t, k)[row]
 
-            illinois_roots(row_q, lo, hi, f_lo, f_hi, k_idx)
-            times.append(0.5 * (lo + hi))
-            pieces.append(k_idx)
+                illinois_roots(row_q, lo, hi, f_lo, f_hi, k_idx)
+                times.append(0.5 * (lo + hi))
+                pieces.append(k_idx)
         zk, zi = np.nonzero(d == 0.0)
         if zk.size and zk.size < d.size:
             times.append(grid[zk, zi])
             pieces.append(zk)
+    if newton:
+        assert slope_derivatives is not None
+        label = np.concatenate([b[4] for b in newton])
+
+        def value_and_slope(t: FloatArray, lab: NDArray[np.intp]) -> tuple[FloatArray, FloatArray]:
+            row, piece = np.divmod(lab, n)
+            d = curve.eval_pieces(t, piece, 4)
+            values, slopes_of = rows(t, piece), slope_derivatives(d)
+            take = np.arange(t.size)
+            slope_rows = np.vstack([np.broadcast_to(np.nan if r is None else r, t.shape) for r in slopes_of])
+            return values[row, take], slope_rows[row, take]
+
+        lo, hi, f_lo, f_hi = (np.concatenate([b[i] for b in newton]) for i in range(4))
+        times.append(newton_roots(value_and_slope, lo, hi, f_lo, f_hi, label))
+        pieces.append(label % n)
     return np.concatenate(times), np.concatenate(pieces)
 
 
@@ -159,8 +186,11 @@ def characteristics(curve: PiecewiseCurve) -> Characteristics:
     Makino (1977), characteristic values; INDEXMAN technical guide, section 5
     (characteristic table, Q = A·V/Am).
     """
+    # the rows' roots are the peaks of S, V, A, J and A·V; J's has no derivative (it would
+    # need d²J/dT²) and is refined by the Illinois method, the others by Newton
     t_all, k_all = critical_points(
-        curve, lambda d: np.vstack([d[1], d[2], d[3], d[4], d[3] * d[1] + d[2] * d[2]])
+        curve, lambda d: np.vstack([d[1], d[2], d[3], d[4], d[3] * d[1] + d[2] * d[2]]),
+        lambda d: [d[2], d[3], d[4], None, d[4] * d[1] + 3.0 * d[2] * d[3]],
     )
     s_, v, acc, j = curve.eval_pieces(t_all, k_all, 3)
     s_max, s_min = peaks_of(t_all, s_)
@@ -214,8 +244,8 @@ def power_balance_peaks(curve: PiecewiseCurve, c1: ArrayLike, c2: ArrayLike
     -----
     Candidates are each piece's ends (one-sided) and every root of
     f′ = c1·(J·V + A²) + c2·A, bracketed on one grid of the curve (evaluated once for all
-    rows) and refined together by the Illinois method, as :func:`critical_points` does for
-    one function.
+    rows) and refined together by safeguarded Newton on f″ = c1·(dJ·V + 3·A·J) + c2·J, as
+    :func:`critical_points` does for one function.
 
     References
     ----------
@@ -248,13 +278,14 @@ def power_balance_peaks(curve: PiecewiseCurve, c1: ArrayLike, c2: ArrayLike
             f_lo, f_hi = g[r_idx, k_idx, i_idx].copy(), g[r_idx, k_idx, i_idx + 1].copy()
             row_of = r[r_idx]
 
-            def slope(t: FloatArray, label: NDArray[np.intp]) -> FloatArray:
+            def slope(t: FloatArray, label: NDArray[np.intp]) -> tuple[FloatArray, FloatArray]:
                 row, piece = np.divmod(label, n)
-                _, vv, aa, jj = curve.eval_pieces(t, piece, 3)
-                return np.asarray(k1[row] * (jj * vv + aa * aa) + k2[row] * aa, dtype=np.float64)
+                _, vv, aa, jj, dj = curve.eval_pieces(t, piece, 4)
+                # f′ = c1·(J·V + A²) + c2·A and its derivative f″ = c1·(dJ·V + 3·A·J) + c2·J
+                return (k1[row] * (jj * vv + aa * aa) + k2[row] * aa,
+                        k1[row] * (dj * vv + 3.0 * aa * jj) + k2[row] * jj)
 
-            illinois_roots(slope, lo, hi, f_lo, f_hi, row_of * n + k_idx)
-            cand_t.append(0.5 * (lo + hi))
+            cand_t.append(newton_roots(slope, lo, hi, f_lo, f_hi, row_of * n + k_idx))
             cand_k.append(k_idx)
             cand_r.append(row_of)
         zr, zk, zi = np.nonzero(g == 0.0)

@@ -189,7 +189,8 @@ def _end_table(curve: PiecewiseCurve, direction: int, k: int, at_t7: bool) -> En
     return EndTable(k, t, hermite)
 
 
-def solve(curve: PiecewiseCurve, grid: InverseGrid, target: FloatArray) -> FloatArray:
+def solve(curve: PiecewiseCurve, grid: InverseGrid, target: FloatArray,
+          rates: tuple[FloatArray, FloatArray] | None = None) -> FloatArray:
     """T for each target (flat, validated: on the stroke within rounding).
 
     A first pass takes every target through one Newton step, block by block; most are
@@ -205,6 +206,11 @@ def solve(curve: PiecewiseCurve, grid: InverseGrid, target: FloatArray) -> Float
     target : ndarray
         Displacements S, one-dimensional, each on the stroke within rounding [-]
         (:func:`~camcore.curves.stroke.validate_stroke`).
+    rates : (ndarray, ndarray), optional
+        Arrays the size of ``target`` that receive V and A at each answer [-]: from the last
+        Newton evaluation, carried over the last step δ by Taylor (V + A·δ + J·δ²/2, A + J·δ;
+        the terms left out, dJ·δ³/6 and dJ·δ²/2, are below rounding for |δ| ≤ RATES_STEP),
+        evaluated afresh for the few answers whose last step was longer.
 
     Returns
     -------
@@ -224,15 +230,37 @@ def solve(curve: PiecewiseCurve, grid: InverseGrid, target: FloatArray) -> Float
         for lo in range(0, target.size, BLOCK):
             hi = min(lo + BLOCK, target.size)
             first = _Targets.start(curve, grid, clamp_to_stroke(curve, target[lo:hi]), lo)
-            rest = _first_step(curve, grid, first, result)
+            rest = _first_step(curve, grid, first, result, rates)
             if rest is not None:
                 pending.append(rest)
         if pending:
             rest = _Targets.concat(pending)
             rest.mark_end_cells(grid)
             for lo in range(0, rest.size, BLOCK):
-                _iterate(curve, grid, rest.take(np.arange(lo, min(lo + BLOCK, rest.size))), result, MAX_ITERATIONS)
+                _iterate(curve, grid, rest.take(np.arange(lo, min(lo + BLOCK, rest.size))), result, MAX_ITERATIONS,
+                         rates)
+    if rates is not None:
+        # NaN marks an answer whose last step was too long for the Taylor carry
+        again = np.flatnonzero(np.isnan(rates[0]))
+        if again.size:
+            _s, rates[0][again], rates[1][again] = curve.derivatives(result[again], 2)
     return result
+
+
+#: longest last Newton step [-] over which V and A are carried by Taylor: with |dJ| up to 1e4
+#: (the catalog's steepest laws are near 2e3) the left-out terms stay below 1e-15
+RATES_STEP = 1e-9
+
+
+def _carry(rates: tuple[FloatArray, FloatArray] | None, idx: NDArray[np.intp] | slice, delta: FloatArray,
+           v: FloatArray, a: FloatArray, j: FloatArray, sign: int) -> None:
+    """V and A at t + δ from V, A, J at t (oriented by ``sign``) into ``rates`` at ``idx``;
+    NaN where |δ| > RATES_STEP (evaluated afresh by :func:`solve`)."""
+    if rates is None:
+        return
+    near = np.abs(delta) <= RATES_STEP
+    rates[0][idx] = np.where(near, sign * (v + delta * (a + 0.5 * delta * j)), np.nan)
+    rates[1][idx] = np.where(near, sign * (a + delta * j), np.nan)
 
 
 def _start(grid: InverseGrid, target: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.intp]]:
@@ -354,7 +382,8 @@ class _Targets:
                         cat("side", 0.0), cat("power", 1.0), cat("base", 0.0), cat("reach", 0.0))
 
 
-def _first_step(curve: PiecewiseCurve, grid: InverseGrid, x: _Targets, result: FloatArray) -> _Targets | None:
+def _first_step(curve: PiecewiseCurve, grid: InverseGrid, x: _Targets, result: FloatArray,
+                rates: tuple[FloatArray, FloatArray] | None = None) -> _Targets | None:
     """One Newton step for a fresh block, with only the test that finishes most targets.
 
     A step that stays inside the cell and whose predicted error |A/2V|·δ² is below an ulp
@@ -367,12 +396,15 @@ def _first_step(curve: PiecewiseCurve, grid: InverseGrid, x: _Targets, result: F
     if mixed.any():
         pe = pe.copy()
         pe[mixed] = np.clip(curve.piece_index(x.t[mixed]), 0, curve.n_pieces - 1)
-    s_now, v_now, a_now = curve.eval_grouped(x.t, pe, 2)
+    values = curve.eval_grouped(x.t, pe, 2 if rates is None else 3)
+    s_now, v_now, a_now = values[:3]
     if grid.direction < 0:
         s_now, v_now, a_now = -s_now, -v_now, -a_now
     step = s_now - x.goal
     step /= v_now
     t_new = x.t - step
+    if rates is not None:  # before a_now is overwritten below
+        _carry(rates, x.idx, -step, values[1], values[2], values[3], 1)
     done = t_new > x.low
     done &= t_new < x.high
     tiny = 4 * float(np.spacing(max(abs(curve.t_start), abs(curve.t_end), 1.0)))
@@ -385,7 +417,8 @@ def _first_step(curve: PiecewiseCurve, grid: InverseGrid, x: _Targets, result: F
     return x.take(rest) if rest.size else None
 
 
-def _iterate(curve: PiecewiseCurve, grid: InverseGrid, x: _Targets, result: FloatArray, iterations: int) -> _Targets:
+def _iterate(curve: PiecewiseCurve, grid: InverseGrid, x: _Targets, result: FloatArray, iterations: int,
+             rates: tuple[FloatArray, FloatArray] | None = None) -> _Targets:
     """Up to ``iterations`` safeguarded Newton steps; answers go into ``result`` as they come.
 
     Returns the targets not yet final (call under np.errstate: inf/nan steps are expected).
@@ -403,7 +436,8 @@ def _iterate(curve: PiecewiseCurve, grid: InverseGrid, x: _Targets, result: Floa
         if mixed.any():
             pe = pe.copy()
             pe[mixed] = np.clip(curve.piece_index(x.t[mixed]), 0, curve.n_pieces - 1)
-        s_now, v_now, a_now = curve.eval_grouped(x.t, pe, 2, work)
+        values = curve.eval_grouped(x.t, pe, 2 if rates is None else 3, work)
+        s_now, v_now, a_now = values[:3]
         if direction < 0:
             s_now, v_now, a_now = -s_now, -v_now, -a_now
         f = s_now - x.goal
@@ -433,6 +467,8 @@ def _iterate(curve: PiecewiseCurve, grid: InverseGrid, x: _Targets, result: Floa
         # where S is noise (cancellation near a dwell end) only the bracket can close
         done |= (x.high - x.low) <= tiny
         result[x.idx] = t_new
+        if rates is not None:
+            _carry(rates, x.idx, t_new - x.t, values[1], values[2], values[3], 1)
         rest = np.flatnonzero(~done)
         # the rest: shrink the bracket with the residual's sign; a step leaving it bisects
         f, t_new, ok, t = f[rest], t_new[rest], ok[rest], x.t[rest]

@@ -104,8 +104,8 @@ def load_kernel() -> None:
     """Load the OpenCASCADE bindings now (one extension module, ~1.5 s), and keep the
     kernel's reports of each transfer off stdout but for failures.
 
-    A service calls this when it starts, so the load does not fall inside a request's
-    deadline; the writers call it too (it costs nothing once loaded).
+    A service calls this before a request's timed work, so the load does not fall inside
+    its deadline; the writers call it too (it costs nothing once loaded).
 
     Returns
     -------

@@ -26,7 +26,6 @@ References
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -34,7 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._checks import finite, positive
-from .._solvers import scan_roots
+from .._solvers import illinois_roots
 from ..curves.base import FloatArray
 from ..curves.curve import Curve
 from ..errors import InvalidParameterError
@@ -141,29 +140,77 @@ class Cycle:
         return self.repeats * (self.turn_deg * self.seconds_per_deg + self.stop_s)
 
 
-def _integral(law: TorqueLaw, fn: Callable[[FloatArray], FloatArray]) -> float:
-    """∫ fn(torque) dx over the law's stretch [deg·…], exact on every smooth piece, split at the
-    torque's zeros (where fn may have a kink)."""
+#: grid per smooth piece that brackets the zeros where the integrand may kink
+_SCAN = np.linspace(0.0, 1.0, 129)
+
+
+def _kinks(law: TorqueLaw, fc: float, internal_nm: float, lo: FloatArray, hi: FloatArray,
+           pieces: np.ndarray, at_zero_torque: bool) -> tuple[FloatArray, np.ndarray]:
+    """Curve times (and their pieces) inside the given pieces where, with ``at_zero_torque``,
+    the input torque fc·f + Tᵢ is zero (a motor's scale kinks there: driving and braking
+    differ) or, with friction c2·|V|, where V is zero (f kinks there); all pieces bracketed
+    on one grid and refined together."""
+    c = law.curve
+    n = lo.size
+    grid = lo[:, None] + (hi - lo)[:, None] * _SCAN[None, :]
+    _, v, a = (d.reshape(n, _SCAN.size) for d in c.eval_pieces(grid.ravel(), np.repeat(pieces, _SCAN.size), 2))
+    rows = [fc * (law.c1 * v * a + law.c2 * (np.abs(v) if law.signed_friction else v)) + internal_nm
+            if at_zero_torque else None, v if law.signed_friction else None]
+    found_t, found_k = [np.empty(0)], [np.empty(0, dtype=np.intp)]
+    for r, g in enumerate(rows):
+        if g is None:
+            continue
+        sign = np.sign(g)
+        k_idx, i_idx = np.nonzero(sign[:, :-1] * sign[:, 1:] < 0)
+        if k_idx.size:
+            b_lo, b_hi = grid[k_idx, i_idx].copy(), grid[k_idx, i_idx + 1].copy()
+            f_lo, f_hi = g[k_idx, i_idx].copy(), g[k_idx, i_idx + 1].copy()
+
+            def row_r(t: FloatArray, label: np.ndarray, r: int = r) -> FloatArray:
+                _, vv, aa = c.eval_pieces(t, pieces[label], 2)
+                if r == 1:
+                    return vv
+                friction = np.abs(vv) if law.signed_friction else vv
+                return np.asarray(fc * (law.c1 * vv * aa + law.c2 * friction) + internal_nm, dtype=np.float64)
+
+            illinois_roots(row_r, b_lo, b_hi, f_lo, f_hi, k_idx)
+            found_t.append(0.5 * (b_lo + b_hi))
+            found_k.append(k_idx)
+        zk, zi = np.nonzero(g == 0.0)
+        found_t.append(grid[zk, zi])
+        found_k.append(zk)
+    return np.concatenate(found_t), np.concatenate(found_k)
+
+
+def _integral(law: TorqueLaw, fc: float, internal_nm: float, fn: Callable[[FloatArray], FloatArray],
+              fn_kinks_at_zero: bool) -> float:
+    """∫ fn(fc·f + Tᵢ) dx over the law's stretch [deg·…]: Gauss–Legendre on every smooth piece,
+    split where the integrand may kink (:func:`_kinks`; at zero torque only if ``fn`` kinks
+    there), every node of every stretch in one evaluation."""
     c = law.curve
     starts = c.piece_starts
     ends = np.append(starts[1:], c.t_end)
-    total = 0.0
+    pieces = np.nonzero(ends > starts)[0]
+    lo, hi = starts[pieces], ends[pieces]
+    kink_t, kink_k = _kinks(law, fc, internal_nm, lo, hi, pieces, fn_kinks_at_zero)
+    inside = (kink_t > lo[kink_k]) & (kink_t < hi[kink_k])
+    # every piece's edges and kinks, ordered by piece then time: stretches join neighbours
+    edge_k = np.concatenate([np.arange(pieces.size), np.arange(pieces.size), kink_k[inside]])
+    edge_t = np.concatenate([lo, hi, kink_t[inside]])
+    order = np.lexsort((edge_t, edge_k))
+    edge_k, edge_t = edge_k[order], edge_t[order]
+    same = edge_k[1:] == edge_k[:-1]
+    a, b, k = edge_t[:-1][same], edge_t[1:][same], pieces[edge_k[:-1][same]]
+    nodes = 0.5 * (a + b)[:, None] + 0.5 * (b - a)[:, None] * _GL_X[None, :]
+    _, v, acc = c.eval_pieces(nodes.ravel(), np.repeat(k, _GL_X.size), 2)
+    friction = np.abs(v) if law.signed_friction else v
+    values = fn(fc * (law.c1 * v * acc + law.c2 * friction) + internal_nm).reshape(nodes.shape)
     dx_dt = law.span / (c.t_end - c.t_start)
-    for k, (lo, hi) in enumerate(zip(starts, ends)):
-        if hi <= lo:
-            continue
-        def on_piece(t: FloatArray, k: int = k) -> FloatArray:
-            return law.at_t(t, np.full(t.shape, k, dtype=np.intp))
-
-        roots, _ = scan_roots(on_piece, np.linspace(lo, hi, 129))
-        edges = [lo, *[r for r in roots if lo < r < hi], hi]
-        for a, b in itertools.pairwise(edges):
-            t = 0.5 * (a + b) + 0.5 * (b - a) * _GL_X
-            total += 0.5 * (b - a) * float(np.dot(_GL_W, fn(on_piece(t))))
-    return total * dx_dt
+    return float(np.dot(0.5 * (b - a), values @ _GL_W)) * dx_dt
 
 
-def cycle_rms(cycle: Cycle, fc: float, internal_nm: float, scale: Callable[[FloatArray], FloatArray]) -> float:
+def cycle_rms(cycle: Cycle, fc: float, internal_nm: float,
+              scale: Callable[[FloatArray], FloatArray] | None = None) -> float:
     """RMS over the machine cycle of scale(fc·T_load + Tᵢ) (Tᵢ alone in the dwells, 0 while stopped).
 
     Parameters
@@ -174,8 +221,9 @@ def cycle_rms(cycle: Cycle, fc: float, internal_nm: float, scale: Callable[[Floa
         Service factor [-].
     internal_nm : float
         Internal friction on the input shaft [N·m].
-    scale : callable
-        Maps input-shaft torque to the torque whose RMS is wanted (identity, or to the motor).
+    scale : callable, optional
+        Maps input-shaft torque to the torque whose RMS is wanted (a motor's, which may kink
+        at zero torque: driving and braking differ); None: the input torque itself.
 
     Returns
     -------
@@ -188,11 +236,14 @@ def cycle_rms(cycle: Cycle, fc: float, internal_nm: float, scale: Callable[[Floa
     """
     moving = 0.0
     square = 0.0
+    def squared(torque: FloatArray) -> FloatArray:
+        return (torque if scale is None else scale(torque)) ** 2
+
     for law in cycle.laws:
         moving += law.span
-        square += _integral(law, lambda f: scale(fc * f + internal_nm) ** 2)
+        square += _integral(law, fc, internal_nm, squared, scale is not None)
     dwell_deg = cycle.turn_deg - moving
-    square += float(scale(np.array([internal_nm]))[0]) ** 2 * dwell_deg
+    square += float(squared(np.array([internal_nm]))[0]) * dwell_deg
     seconds = cycle.repeats * square * cycle.seconds_per_deg
     return math.sqrt(seconds / cycle.cycle_s)
 

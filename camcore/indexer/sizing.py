@@ -230,7 +230,7 @@ def size(
              "dial_omega_max_rad_s": figures["omega_max_rad_s"] / g,
              "dial_alpha_max_rad_s2": figures["alpha_max_rad_s2"] / g,
              "internal_friction_torque_nm": internal, "dwell_output_torque_nm": load.dwell_torque_nm / g,
-             "rms_input_torque_nm": cycle_rms(cycle, fc, internal, lambda t: t),
+             "rms_input_torque_nm": cycle_rms(cycle, fc, internal),
              "machine_cycle_time_s": cycle.cycle_s, "input_torque_table": torque_table(cycle, fc, internal, table_samples)}
     if motor is not None:
         drive |= _motor_check(motor, load, cycle, figures, internal, indexer.rpm, indexer.input_speed_rad_s)

@@ -17,11 +17,11 @@ from typing import Literal
 
 import numpy as np
 
-from .._solvers import NoFeasiblePointError, periodic_grid_max, smallest_feasible
-from ..curves.base import FloatArray
+from .._maxima import periodic_grid_maxima
+from .._solvers import NoFeasiblePointError, smallest_feasible
 from ..errors import GeometryError, InvalidParameterError
 from .cam import CamSpec, validate
-from .checks import check_grid, corners, profile_checks
+from .checks import LiftGrid, check_maxima, corners, lift_grid, profile_checks
 from .followers import FlatTranslating
 
 Constraint = Literal["pressure_angle", "radius_of_curvature", "geometry"]
@@ -63,6 +63,27 @@ def _solve_radius(spec: CamSpec, margin: Callable[[CamSpec], float], what: str) 
         raise GeometryError(f"No base radius up to {exc.largest_tried!r} mm meets the {what} limit.") from None
 
 
+def _flat_translating_radius(spec: CamSpec, grid: LiftGrid, req: float) -> float | None:
+    """Closed form of a flat translating face: ρ = Rb + s + s'' ≥ req where s + s'' is least."""
+    (_, m), = periodic_grid_maxima(lambda t: -np.sum(spec.lift.derivatives(t, 2)[::2], axis=0)[None, :],
+                                   grid.theta, -(grid.lift[0] + grid.lift[2])[None, :])
+    # ρ = Rb + s + s'' > req strictly at the minimum would need Rb > req − min; take equality
+    r_c = req + m
+    return r_c if r_c > 0 else None
+
+
+def _curvature_margin(spec: CamSpec, grid: LiftGrid, req: float) -> float:
+    """Smallest radius of curvature of the cam surface less the limit [mm]; an undercut cam
+    fails however large its nominal radius (a negative margin)."""
+    found = check_maxima(spec, grid, ("kappa",))
+    kmax = found["kappa"][1]
+    rr = spec.model.roller_radius_mm
+    rho_pitch = 1.0 / kmax if kmax > 0 else math.inf
+    if rr > 0 and kmax > 0 and rr >= rho_pitch:
+        return -1.0 - abs(rho_pitch - rr)
+    return rho_pitch - rr - req
+
+
 def size_base_circle(
     spec: CamSpec,
     max_pressure_angle_deg: float | None = None,
@@ -73,8 +94,8 @@ def size_base_circle(
     (ρ > 0): a missing curvature limit means 0.
 
     Each limit is solved on its own by the Illinois method to 1e-10 relative on the exact
-    extremes over the cam angle (grid + golden section, :func:`profile_checks`); the answer
-    is the larger radius. For translating followers the pressure angle tan φ = (s' − σe)/(s0 + s)
+    extreme it limits (grid + local grids, :func:`check_maxima`; the lift on the grid does not
+    change with the radius and is evaluated once); the answer is the larger radius. For translating followers the pressure angle tan φ = (s' − σe)/(s0 + s)
     falls monotonically as Rb grows; the flat-faced translating case is closed form,
     Rb = ρreq − min(s + s'').
 
@@ -120,34 +141,19 @@ def size_base_circle(
         raise InvalidParameterError("Give a pressure-angle limit, a curvature limit, or both.")
     r_p: float | None = None
     r_c: float | None = None
+    grid = lift_grid(spec)
     if max_pressure_angle_deg is not None and not model.flat_faced:
         lim = max_pressure_angle_deg
-        r_p = _solve_radius(spec, lambda s: lim - profile_checks(s).max_pressure_angle_deg, "pressure-angle")
+        r_p = _solve_radius(spec, lambda s: lim - math.degrees(check_maxima(s, grid, ("pressure",))["pressure"][1]),
+                            "pressure-angle")
     if min_radius_of_curvature_mm is not None:
         req = min_radius_of_curvature_mm
-        if corners(spec):
+        if corners(spec, grid):
             raise GeometryError("The lift's velocity jumps, so the cam has a corner (radius 0) at any base radius.")
         if isinstance(model, FlatTranslating):
-            # closed form: ρ = Rb + s + s''
-            grid = check_grid(spec)
-            br = np.asarray(spec.lift.breaks_rad, dtype=np.float64)
-
-            def neg_ss(t: FloatArray) -> FloatArray:
-                v = spec.lift.derivatives(t, 2)
-                return -(v[0] + v[2])
-
-            _, m = periodic_grid_max(neg_ss, grid, br)
-            # ρ = Rb + s + s'' > req strictly at the minimum would need Rb > req − min; take equality
-            r_c = req + m
-            if r_c <= 0:
-                r_c = None
+            r_c = _flat_translating_radius(spec, grid, req)
         else:
-            def curvature_margin(s: CamSpec) -> float:
-                c = profile_checks(s)
-                # an undercut cam fails however large its nominal radius: a negative margin
-                return c.min_radius_of_curvature_mm - req if not c.undercut else -1.0 - abs(c.min_radius_of_curvature_mm)
-
-            r_c = _solve_radius(spec, curvature_margin, "radius-of-curvature")
+            r_c = _solve_radius(spec, lambda s: _curvature_margin(s, grid, req), "radius-of-curvature")
     active: Constraint = "geometry"
     rb = max(model.min_base_radius_mm(), 1e-9)
     limits: tuple[tuple[float | None, Constraint], ...] = ((r_p, "pressure_angle"), (r_c, "radius_of_curvature"))
@@ -156,6 +162,6 @@ def size_base_circle(
         rb, active = max(candidates)
     final = replace(spec, base_radius_mm=rb)
     validate(final)
-    ch = profile_checks(final)
+    ch = profile_checks(final, grid)
     return BaseCircleResult(rb, active, ch.max_pressure_angle_deg, ch.min_radius_of_curvature_mm, r_p, r_c)
 

@@ -15,10 +15,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._solvers import periodic_grid_max
+from .._maxima import periodic_grid_maxima
 from ..curves.base import FloatArray
 from .cam import CamSpec, kinematics, rotate
-from .lift import TWO_PI
+from .followers import Kinematics
+from .lift import TWO_PI, Lift
 from .points import chord_convexity
 
 #: grid over one cam turn used to bracket the extremes of the checks
@@ -57,7 +58,7 @@ class ProfileChecks:
 
 # ---------------------------------------------------------------- exact extremes
 def check_grid(spec: CamSpec, n: int = CHECK_GRID) -> FloatArray:
-    """A fine grid over [0, 2π) with every break point and its left neighbour.
+    """:func:`lift_check_grid` of the cam's lift.
 
     Parameters
     ----------
@@ -69,27 +70,108 @@ def check_grid(spec: CamSpec, n: int = CHECK_GRID) -> FloatArray:
     Returns
     -------
     ndarray
+        Sorted, distinct cam angles [rad].
+
+    References
+    ----------
+    Kiefer (1953), golden-section search.
+    """
+    return lift_check_grid(spec.lift, n)
+
+
+def lift_check_grid(lift: Lift, n: int = CHECK_GRID) -> FloatArray:
+    """A fine grid over [0, 2π) with every break point of the lift and its left neighbour.
+
+    Parameters
+    ----------
+    lift : Lift
+        The lift over one cam turn (a plate cam's, a barrel cam's).
+    n : int
+        Evenly spaced points before the break points are added [-].
+
+    Returns
+    -------
+    ndarray
         Sorted, distinct cam angles [rad]: no jump of the lift's derivatives lies strictly
-        between neighbours, so a golden-section refinement between them sees a smooth function.
+        between neighbours, so a refinement between them sees a smooth function.
 
     References
     ----------
     J. Kiefer, "Sequential minimax search for a maximum", Proc. AMS 4 (1953) 502-506
-    (golden-section search, which needs a unimodal function between the grid points).
+    (a unimodal function between the grid points).
     """
     base = np.linspace(0.0, TWO_PI, n, endpoint=False)
-    br = np.asarray(spec.lift.breaks_rad, dtype=np.float64)
+    br = np.asarray(lift.breaks_rad, dtype=np.float64)
     left = np.mod(br - 1e-10, TWO_PI)
     return np.unique(np.concatenate([base, br, left]))
 
 
-def corners(spec: CamSpec) -> list[float]:
+@dataclass(frozen=True)
+class LiftGrid:
+    """The check grid of one lift and the lift's h, h', h'' on it: what the checks of a cam
+    need that does not change with the base radius (base-circle sizing reuses it)."""
+
+    theta: FloatArray
+    lift: list[FloatArray]
+
+    def kinematics(self, spec: CamSpec) -> Kinematics:
+        """The cam's kinematics on the grid (``spec`` must carry the lift the grid was made of)."""
+        return spec.model.kinematics(spec.base_radius_mm, spec.sigma, self.theta, self.lift)
+
+
+def lift_grid(spec: CamSpec) -> LiftGrid:
+    """The check grid of the cam's lift (:func:`check_grid`) with h, h', h'' on it.
+
+    Parameters
+    ----------
+    spec : CamSpec
+        The cam: follower, base radius, rotation and lift.
+
+    Returns
+    -------
+    LiftGrid
+        Angles [rad] and the lift's derivatives there [lift unit, per rad, per rad²].
+
+    References
+    ----------
+    Kiefer (1953), golden-section search (the grid's contract: no jump between neighbours).
+    """
+    theta = check_grid(spec)
+    return LiftGrid(theta, spec.lift.derivatives(theta, 2))
+
+
+def corners(spec: CamSpec, grid: LiftGrid | None = None) -> list[float]:
     """Cam angles where the lift's velocity jumps (the surface has a corner there) [deg].
 
     Parameters
     ----------
     spec : CamSpec
         The cam: follower, base radius, rotation and lift.
+    grid : LiftGrid, optional
+        The lift's check grid, if the caller has it (its h' gives the scale).
+
+    Returns
+    -------
+    list of float
+        :func:`lift_corners` of the cam's lift [deg].
+
+    References
+    ----------
+    Bezier valve-cam notes, convexity test (a corner fails it).
+    """
+    return lift_corners(spec.lift, None if grid is None else grid.lift[1])
+
+
+def lift_corners(lift: Lift, slope_on_grid: FloatArray | None = None) -> list[float]:
+    """Cam angles where a lift's velocity jumps (a plate cam's surface, a barrel cam's groove
+    has a corner there) [deg].
+
+    Parameters
+    ----------
+    lift : Lift
+        The lift over one cam turn.
+    slope_on_grid : ndarray, optional
+        dh/dθ on a check grid, if the caller has it (it gives the scale) [mm/rad or deg/rad].
 
     Returns
     -------
@@ -101,57 +183,94 @@ def corners(spec: CamSpec) -> list[float]:
     Bezier valve-cam notes, convexity test (a corner fails it); Makino (1977), eqs. (1)-(9)
     (the break points where a curve's derivatives may jump).
     """
-    br = np.asarray(spec.lift.breaks_rad, dtype=np.float64)
+    br = np.asarray(lift.breaks_rad, dtype=np.float64)
     if br.size == 0:
         return []
-    right = spec.lift.derivatives(br, 1)
-    left = spec.lift.derivatives(br - 1e-9, 1)
-    scale = max(1.0, float(np.abs(spec.lift.derivatives(check_grid(spec, 720), 1)[1]).max()))
+    right = lift.derivatives(br, 1)
+    left = lift.derivatives(br - 1e-9, 1)
+    h1 = lift.derivatives(lift_check_grid(lift, 720), 1)[1] if slope_on_grid is None else slope_on_grid
+    scale = max(1.0, float(np.abs(h1).max()))
     jump = np.abs(right[1] - left[1]) > 1e-6 * scale
     return [float(np.degrees(b)) for b in br[jump]]
 
 
-def _face_offset(spec: CamSpec, theta: FloatArray) -> FloatArray:
-    offset = kinematics(spec, theta).offset
-    assert offset is not None  # flat faces have one
-    return offset
+#: the quantities whose maxima the checks need, by follower kind: flat faces −ρ, the face
+#: offset and its negative; point followers κp and −κp; both |φ| first
+_FLAT = ("pressure", "neg_rho", "offset", "neg_offset")
+_POINT = ("pressure", "kappa", "neg_kappa")
 
 
-def profile_checks(spec: CamSpec) -> ProfileChecks:
+def _quantities(k: Kinematics, names: tuple[str, ...]) -> FloatArray:
+    """The named quantities of kinematics ``k`` as rows of one array."""
+    rows = {"pressure": lambda: np.abs(k.pressure), "kappa": lambda: k.kappa_pitch,
+            "neg_kappa": lambda: -k.kappa_pitch, "neg_rho": lambda: -k.rho_cam}
+    if k.offset is not None:
+        offset = k.offset
+        rows["offset"], rows["neg_offset"] = (lambda: offset), (lambda: -offset)
+    return np.vstack([rows[n]() for n in names])
+
+
+def check_maxima(spec: CamSpec, grid: LiftGrid, names: tuple[str, ...]) -> dict[str, tuple[float, float]]:
+    """Exact maxima over the turn of the named quantities (|φ| as ``pressure``, κp as
+    ``kappa``, −κp, −ρ as ``neg_rho``, the flat face's contact ``offset`` and its negative).
+
+    Parameters
+    ----------
+    spec : CamSpec
+        The cam: follower, base radius, rotation and lift.
+    grid : LiftGrid
+        The lift's check grid (:func:`lift_grid`).
+    names : tuple of str
+        The quantities wanted.
+
+    Returns
+    -------
+    dict
+        name → (angle of the maximum [rad], the maximum [rad, 1/mm or mm]): the best grid
+        point refined by local grids between its neighbours, all quantities together.
+
+    References
+    ----------
+    Shinzato and Kunigami (1988), eq. (6) (the pressure angle); Kiefer (1953) (a unimodal
+    maximum lies between the neighbours of the best evaluated point).
+    """
+    values = _quantities(grid.kinematics(spec), names)
+    found = periodic_grid_maxima(lambda t: _quantities(kinematics(spec, t), names), grid.theta, values)
+    return dict(zip(names, found))
+
+
+def profile_checks(spec: CamSpec, grid: LiftGrid | None = None) -> ProfileChecks:
     """Largest |pressure angle|, smallest radius of curvature, convexity, undercut.
 
     Parameters
     ----------
     spec : CamSpec
         The cam: follower, base radius, rotation and lift.
+    grid : LiftGrid, optional
+        The lift's check grid, if the caller has it (base-circle sizing reuses one).
 
     Returns
     -------
     ProfileChecks
         Exact extremes: the best point of a 7200-point grid (with every break point and
-        its left neighbour), refined by golden section between its neighbours.
+        its left neighbour), refined between its neighbours by local grids.
 
     References
     ----------
     Shinzato and Kunigami (1988), eq. (6); Bezier valve-cam notes (convexity test).
     """
-    grid = check_grid(spec)
-    br = np.asarray(spec.lift.breaks_rad, dtype=np.float64)
+    grid = lift_grid(spec) if grid is None else grid
     model = spec.model
-
-    def abs_pressure(t: FloatArray) -> FloatArray:
-        return np.abs(kinematics(spec, t).pressure)
-
-    t_p, v_p = periodic_grid_max(abs_pressure, grid, br)
+    found = check_maxima(spec, grid, _FLAT if model.flat_faced else _POINT)
+    t_p, v_p = found["pressure"]
     signed = float(kinematics(spec, np.array([t_p])).pressure[0])
-    corner_angles = corners(spec)
+    corner_angles = corners(spec, grid)
     face: dict[str, float | None] = {"face_min_mm": None, "face_max_mm": None, "face_width_mm": None}
     if model.flat_faced:
-        t_r, neg = periodic_grid_max(lambda t: -kinematics(spec, t).rho_cam, grid, br)
+        t_r, neg = found["neg_rho"]
         rho_min = -neg
         rho_p_min: float | None = None
-        _, off_max = periodic_grid_max(lambda t: _face_offset(spec, t), grid, br)
-        _, off_min_neg = periodic_grid_max(lambda t: -_face_offset(spec, t), grid, br)
+        off_max, off_min_neg = found["offset"][1], found["neg_offset"][1]
         face = {"face_min_mm": -off_min_neg, "face_max_mm": off_max, "face_width_mm": off_max + off_min_neg}
         # the chord test on an even 0.1° grid: the check grid's break-point neighbours sit an
         # ulp apart, and chords that short turn the cross product into rounding noise
@@ -162,8 +281,8 @@ def profile_checks(spec: CamSpec) -> ProfileChecks:
         undercut = False
     else:
         rr = model.roller_radius_mm
-        t_r, kmax = periodic_grid_max(lambda t: kinematics(spec, t).kappa_pitch, grid, br)
-        _, kmin_neg = periodic_grid_max(lambda t: -kinematics(spec, t).kappa_pitch, grid, br)
+        t_r, kmax = found["kappa"]
+        kmin_neg = found["neg_kappa"][1]
         rho_p_min = 1.0 / kmax if kmax > 0 else math.inf
         rho_min = rho_p_min - rr
         undercut = bool(rr > 0 and kmax > 0 and rr >= rho_p_min)

@@ -98,7 +98,7 @@ def contour(spec: CamSpec, cam_angle_deg: ArrayLike) -> tuple[FloatArray, FloatA
     return sx, sy, px, py
 
 
-def compute_profile(spec: CamSpec, cam_angle_deg: ArrayLike) -> ProfileResult:
+def compute_profile(spec: CamSpec, cam_angle_deg: ArrayLike, checks: ProfileChecks | None = None) -> ProfileResult:
     """The profile at the given cam angles (degrees) and the checks over the whole turn.
 
     Parameters
@@ -107,6 +107,9 @@ def compute_profile(spec: CamSpec, cam_angle_deg: ArrayLike) -> ProfileResult:
         The cam: follower, base radius, rotation and lift.
     cam_angle_deg : array_like
         Cam angles θ, finite [deg].
+    checks : ProfileChecks, optional
+        This cam's :func:`~camcore.profile.checks.profile_checks`, if the caller kept them
+        (they depend on neither the angles nor the answer's format).
 
     Returns
     -------
@@ -130,7 +133,7 @@ def compute_profile(spec: CamSpec, cam_angle_deg: ArrayLike) -> ProfileResult:
     k, (sx, sy), (px, py) = _in_cam_frame(spec, np.radians(ang))
     with np.errstate(divide="ignore"):
         rho_p = 1.0 / k.kappa_pitch
-    checks = profile_checks(spec)
+    checks = profile_checks(spec) if checks is None else checks
     return ProfileResult(
         cam_angle_deg=ang,
         lift=k.lift,
@@ -147,7 +150,7 @@ def compute_profile(spec: CamSpec, cam_angle_deg: ArrayLike) -> ProfileResult:
     )
 
 
-def sample_profile(spec: CamSpec, samples: int = 361) -> ProfileResult:
+def sample_profile(spec: CamSpec, samples: int = 361, checks: ProfileChecks | None = None) -> ProfileResult:
     """The profile at ``samples`` cam angles evenly over 0–360°, both ends included.
 
     Parameters
@@ -156,6 +159,8 @@ def sample_profile(spec: CamSpec, samples: int = 361) -> ProfileResult:
         The cam: follower, base radius, rotation and lift.
     samples : int
         Number of cam angles (≥ 2) [-]; 361 gives 1° steps.
+    checks : ProfileChecks, optional
+        This cam's checks, if the caller kept them (as :func:`compute_profile`).
 
     Returns
     -------
@@ -168,4 +173,4 @@ def sample_profile(spec: CamSpec, samples: int = 361) -> ProfileResult:
     """
     if samples < 2:
         raise InvalidParameterError("samples must be at least 2.")
-    return compute_profile(spec, np.linspace(0.0, 360.0, samples))
+    return compute_profile(spec, np.linspace(0.0, 360.0, samples), checks)

@@ -30,7 +30,8 @@ from typing import Literal
 
 import numpy as np
 
-from .._solvers import periodic_grid_max, scan_roots
+from .._maxima import periodic_grid_max
+from .._solvers import scan_roots
 from ..curves.base import FloatArray
 from ..errors import GeometryError, InvalidParameterError
 from ..profile.cam import CamSpec

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._solvers import golden_max
+from .._maxima import golden_max
 from ..curves.base import FloatArray
 from ..deadline import checkpoint
 from ..errors import GeometryError, LimitExceededError

@@ -4,4 +4,8 @@ from __future__ import annotations
 
 from fastapi import APIRouter
 
-router = APIRouter(prefix="/v1/cams", tags=["cams"])
+from service.cams import barrel
+from service.routing import OrjsonRoute
+
+router = APIRouter(prefix="/v1/cams", tags=["cams"], route_class=OrjsonRoute)
+barrel.register(router)

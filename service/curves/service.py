@@ -15,7 +15,7 @@ from camcore.curves import CURVE_KINDS, Curve, build_curve
 from camcore.curves.kinds import LawCost
 from camcore.errors import LimitExceededError, NonMonotoneError
 from camcore.results import as_dict
-from camcore.work import WorkEstimate, curve_work, law_cost, per_item_work
+from camcore.work import WorkEstimate, WorkTerm, curve_work, law_cost, per_item_work
 from service.cache import LRUCache, held_bytes
 from service.curves.specs import CurveSpec, MakinoCurveSpec
 from service.errors import within
@@ -57,7 +57,16 @@ class CurveService:
         return law_cost(spec.type, spec.parameters())
 
     def curve_work(self, spec: CurveSpec, at: tuple[str | int, ...] = ("curve",)) -> WorkEstimate:
-        return curve_work(self.law(spec, at), at)
+        return self.build_work(spec, self.law(spec, at), at)
+
+    def build_work(self, spec: CurveSpec, law: LawCost, at: tuple[str | int, ...], inverse: bool = False
+                   ) -> WorkEstimate:
+        """Building the spec's curve: nothing when it is in the cache (with its inverse's start
+        tables, if ``inverse``), else the law's build cost."""
+        cached = self.curves.peek(spec.cache_key())
+        if cached is not None and (not inverse or cached.inverse_ready):
+            return WorkEstimate((WorkTerm(at, "the curve, already built", 0.0),))
+        return curve_work(law, at)
 
     def table_work(self, spec: CurveSpec, rows: int, csv: bool, field: tuple[str | int, ...]) -> WorkEstimate:
         """A table of ``rows`` rows (``field``: samples or t): the curve, evaluated and
@@ -65,7 +74,7 @@ class CurveService:
         law = self.law(spec)
         what = "table samples" if field == ("samples",) else "number of times t"
         self.check_limit(what, rows, self.settings.max_table_samples, field)
-        return curve_work(law, ("curve",)) + per_item_work(
+        return self.build_work(spec, law, ("curve",)) + per_item_work(
             rows, law.sample_s + encode_cost(TABLE_COLUMNS, csv), field, f"{rows} table rows")
 
     def inverse_work(self, spec: CurveSpec, values: int, method: str, table_step: float, csv: bool,
@@ -73,7 +82,7 @@ class CurveService:
         """An inverse of ``values`` S values (the table method also samples its table)."""
         self.check_limit("number of s values", values, self.settings.max_inverse_points, field)
         law = self.law(spec)
-        work = curve_work(law, ("curve",)) + per_item_work(
+        work = self.build_work(spec, law, ("curve",), inverse=method == "exact") + per_item_work(
             values, 2 * law.sample_s + encode_cost(INVERSE_COLUMNS, csv), field, f"{values} inverse lookups")
         return work + self.inverse_table_work(law, method, table_step)
 
@@ -181,10 +190,9 @@ class CurveService:
             return {"s": s_arr, "t": vals.t, "v": vals.v, "a": vals.a}
         grows = not curve.inverse_ready
         with within("curve", only=NonMonotoneError):
-            t = curve.inverse(s_arr)
+            t, v, a = curve.inverse_with_rates(s_arr)
         if grows:  # the curve now holds its inverse's start tables: count them in the cache's bytes
             self.curves.remeasure(spec.cache_key())
-        _s, v, a = curve.derivatives(t, 2)
         return {"s": s_arr, "t": t, "v": v, "a": a}
 
     def value(self, spec: CurveSpec, quantity: str, t: float | None, s: float | None) -> bytes:

@@ -26,7 +26,7 @@ from service.indexers.specs import (
 from service.indexers.sweep import SWEEP_EXAMPLES, SizingSweepAnswer, SizingSweepRequest, sweep, sweep_work
 from service.plots.charts import IMAGE_RESPONSE, MEDIA_TYPES
 from service.plots.sweep_chart import sweep_chart
-from service.responses import JSONBody, check_finite, json_response, table_response, wants_csv
+from service.responses import JSONBody, check_finite, encoded_response, json_response, table_response, wants_csv
 from service.routing import OrjsonRoute
 
 router = APIRouter(prefix="/v1/indexers", tags=["indexers"], route_class=OrjsonRoute)
@@ -87,10 +87,16 @@ async def _position(request: Request, gate: WorkGate, service: IndexerService, b
 async def indexer_sizing(body: Annotated[SizingRequest, Body(openapi_examples=SIZING_EXAMPLES)],
                          request: Request, service: Service, gate: Gate) -> Response:
     """Inertia, friction and work torque, output and input torque, input power."""
-    work = service.sizing_work(body.indexer, body.table_samples, body.motor is not None)
-    result = await gate.run(request, work, service.sizing, body.indexer, body.load, body.motor, body.table_samples)
-    check_finite({k: v for k, v in result.items() if isinstance(v, float)})
-    return JSONBody(result)
+    key = body.model_dump_json()
+    payload = service.sizings.get(key)  # the same request again: its answer, on the event loop
+    if payload is None:
+        work = service.sizing_work(body.indexer, body.table_samples, body.motor is not None)
+        result = await gate.run(request, work, service.sizing, body.indexer, body.load, body.motor,
+                                body.table_samples)
+        check_finite({k: v for k, v in result.items() if isinstance(v, float)})
+        encoded = bytes(JSONBody(result).body)
+        payload = service.sizings.get_or_create(key, lambda: encoded)
+    return encoded_response(payload, False)
 
 
 @router.post("/sizing/sweep", operation_id="sweepIndexerSizing", response_model=SizingSweepAnswer,

@@ -9,7 +9,8 @@ import numpy as np
 import camcore
 from camcore.errors import InvalidParameterError, NonMonotoneError
 from camcore.results import as_dict
-from camcore.work import WorkEstimate, curve_work, motion_work, per_item_work
+from camcore.work import WorkEstimate, motion_work, per_item_work
+from service.cache import LRUCache
 from service.curves.service import CurveService
 from service.errors import within
 from service.indexers.specs import IndexerSpec, LoadSpec, MotorSpec
@@ -21,9 +22,18 @@ MOTION_COLUMNS = 8
 #: one row of the motion table or one position beyond the curve's own evaluation: angle
 #: and time scaling (measured 0.5 µs per row at 2e5 rows), ×1.5
 ROW_S = 1.5 * 5e-7
-#: one RMS integral over one law (each piece scanned for the torque's zeros, 32-point Gauss-Legendre
-#: on each stretch): measured 1.1-2.4 ms for MS, MCV50, a 9-piece universal curve; ×1.5
-RMS_INTEGRAL_S = 1.5 * 2.4e-3
+#: one RMS integral over one law (every piece's Gauss-Legendre nodes in one evaluation, the
+#: kinks bracketed on one grid): measured 0.15 ms for MS and MCV50 and 33 ms for a 10 000-point
+#: curve (3.3 µs per piece); ×1.5
+RMS_INTEGRAL_S = 1.5 * 1.5e-4
+RMS_PER_PIECE_S = 1.5 * 3.5e-6
+#: the exact peaks of the power balance (one grid of the curve, Newton on the brackets):
+#: measured 0.45 ms for MS, plus the grid's law evaluations (V, A, J: three per point); ×1.5
+PEAKS_S = 1.5 * 4.5e-4
+#: pieces of a catalog or universal law at most (a points curve has one per point)
+MOST_PIECES_OF_A_LAW = 9
+#: bytes the cached sizing answers may hold (one is ~10 kB with its 181-row torque table)
+SIZING_CACHE_MAX_BYTES = 8 * 1024 * 1024
 #: where a timing chart is in the request
 TIMING = ("indexer", "timing")
 
@@ -34,6 +44,11 @@ class IndexerService:
     def __init__(self, curves: CurveService, motions: MotionService):
         self.curves = curves
         self.motions = motions
+        # encoded sizing answers by request: a spreadsheet recalculating asks the same again
+        self.sizings: LRUCache[bytes] = LRUCache(curves.settings.sizing_cache_size, SIZING_CACHE_MAX_BYTES)
+
+    def cache_stats(self) -> dict[str, dict[str, int]]:
+        return {"sizings": self.sizings.stats()}
 
     # ------------------------------------------------------------------ work estimates
     def _timing_work(self, spec: IndexerSpec, rows: int, rows_field: tuple[str, ...]) -> WorkEstimate:
@@ -49,7 +64,7 @@ class IndexerService:
             return self._timing_work(spec, samples, ("samples",)) + per_item_work(
                 samples, ROW_S + encode_cost(MOTION_COLUMNS, csv), ("samples",), f"{samples} table rows")
         law = self.curves.law(spec.curve, at=("indexer", "curve"))
-        return curve_work(law, ("indexer", "curve")) + per_item_work(
+        return self.curves.build_work(spec.curve, law, ("indexer", "curve")) + per_item_work(
             samples, law.sample_s + ROW_S + encode_cost(MOTION_COLUMNS, csv), ("samples",), f"{samples} table rows")
 
     def position_work(self, spec: IndexerSpec, angles: int, method: str, table_step: float,
@@ -60,7 +75,7 @@ class IndexerService:
             return self._timing_work(spec, 3 * angles, ("output_angle_deg",)) + per_item_work(
                 angles, ROW_S + encode_cost(MOTION_COLUMNS, csv), ("output_angle_deg",), f"{angles} positions")
         law = self.curves.law(spec.curve, at=("indexer", "curve"))
-        return curve_work(law, ("indexer", "curve")) + per_item_work(
+        return self.curves.build_work(spec.curve, law, ("indexer", "curve"), inverse=method == "exact") + per_item_work(
             angles, 2 * law.sample_s + ROW_S + encode_cost(MOTION_COLUMNS, csv), ("output_angle_deg",),
             f"{angles} positions") + self.curves.inverse_table_work(law, method, table_step)
 
@@ -71,12 +86,18 @@ class IndexerService:
         if spec.timing is not None:
             laws = sum(1 for segment in spec.timing.segments if segment.type != "dwell")
             work = self._timing_work(spec, table_samples * laws, ("indexer", "timing"))
+            pieces = MOST_PIECES_OF_A_LAW
         else:
             laws = 1
-            work = self.curves.curve_work(spec.curve, ("indexer", "curve")) + per_item_work(
-                table_samples, ROW_S, ("table_samples",), f"{table_samples} torque rows")
+            law = self.curves.law(spec.curve, at=("indexer", "curve"))
+            pieces = max(len(spec.curve.parameters().get("t", ())), MOST_PIECES_OF_A_LAW)
+            grid = min(pieces * 257, 2**18 + 17 * pieces)  # camcore.curves.extrema's bracketing grid
+            work = self.curves.build_work(spec.curve, law, ("indexer", "curve")) + per_item_work(
+                table_samples, ROW_S, ("table_samples",), f"{table_samples} torque rows") + per_item_work(
+                1, PEAKS_S + 1.5 * 3 * grid * law.sample_s, ("indexer", "curve"), "the exact torque peaks")
         integrals = laws * (2 if motor else 1)
-        return work + per_item_work(integrals, RMS_INTEGRAL_S, ("indexer",), f"{integrals} RMS integrals")
+        return work + per_item_work(integrals, RMS_INTEGRAL_S + RMS_PER_PIECE_S * pieces, ("indexer",),
+                                    f"{integrals} RMS integrals")
 
     # ------------------------------------------------------------------ answers
     def indexer(self, spec: IndexerSpec) -> camcore.indexer.Indexer | camcore.indexer.TimedIndexer:

@@ -10,7 +10,8 @@ import camcore
 from camcore import export
 from camcore.curves.kinds import LawCost
 from camcore.results import as_dict
-from camcore.work import WorkEstimate, WorkTerm, base_circle_work, curve_work, motion_work, profile_work
+from camcore.work import WorkEstimate, WorkTerm, base_circle_work, motion_work, profile_work
+from service.cache import LRUCache
 from service.curves.service import CurveService
 from service.errors import within
 from service.motions.service import MotionService
@@ -31,6 +32,9 @@ class ProfileService:
     def __init__(self, curves: CurveService, motions: MotionService):
         self.curves = curves
         self.motions = motions
+        # the checks over the whole turn depend on the cam alone, not on the samples or format
+        self.checks_cache: LRUCache[camcore.profile.ProfileChecks] = LRUCache(
+            curves.settings.profile_checks_cache_size)
 
     # ------------------------------------------------------------------ work estimates
     def laws(self, spec: ProfileSpec) -> tuple[list[LawCost | None], WorkEstimate]:
@@ -44,7 +48,7 @@ class ProfileService:
         if spec.segments is None:
             assert spec.lift is not None
             law = self.curves.law(spec.lift, at=("profile", "lift"))
-            return [law], curve_work(law, ("profile", "lift"))
+            return [law], self.curves.build_work(spec.lift, law, ("profile", "lift"))
         laws: list[LawCost | None] = []
         built = WorkEstimate()
         seen = set()
@@ -57,7 +61,7 @@ class ProfileService:
             laws.append(law)
             if segment.curve.cache_key() not in seen:
                 seen.add(segment.curve.cache_key())
-                built += curve_work(law, at)
+                built += self.curves.build_work(segment.curve, law, at)
         return laws, built
 
     def profile_work(self, spec: ProfileSpec, samples: int | None, cam_angle_deg: list[float] | None,
@@ -128,9 +132,11 @@ class ProfileService:
         n, _field = self._sample_count(samples, cam_angle_deg)
         cam = self.cam(spec)
         with within("profile"):
+            checks = self.checks_cache.get_or_create(spec.model_dump_json(),
+                                                     lambda: camcore.profile.profile_checks(cam))
             if cam_angle_deg is not None:
-                return camcore.profile.compute_profile(cam, np.asarray(cam_angle_deg, dtype=np.float64))
-            return camcore.profile.sample_profile(cam, n)
+                return camcore.profile.compute_profile(cam, np.asarray(cam_angle_deg, dtype=np.float64), checks)
+            return camcore.profile.sample_profile(cam, n, checks)
 
     def table(self, spec: ProfileSpec, samples: int | None, cam_angle_deg: list[float] | None
               ) -> tuple[dict[str, Any], dict[str, Any]]:
@@ -142,6 +148,9 @@ class ProfileService:
                      fmt: str) -> bytes:
         """The contour of the profile as a file in one of :data:`camcore.export.FORMATS`."""
         return self.export(self.profile(spec, samples, cam_angle_deg), fmt, spec.base_radius_mm)
+
+    def cache_stats(self) -> dict[str, dict[str, int]]:
+        return {"profile_checks": self.checks_cache.stats()}
 
     @staticmethod
     def columns(result: camcore.profile.ProfileResult) -> dict[str, Any]:

@@ -12,6 +12,7 @@ from typing import Annotated, Any
 from fastapi import APIRouter, Body, Depends, Request
 from fastapi.openapi.models import Example
 from pydantic import Field
+from starlette.concurrency import run_in_threadpool
 from starlette.responses import Response
 
 from camcore.errors import InvalidParameterError
@@ -71,6 +72,10 @@ async def solid_response(request: Request, gate: WorkGate, service: ProfileServi
         raise InvalidParameterError(f"format {fmt.name} is a solid: give solid {{thickness_mm, bore_diameter_mm}}.",
                                     field=("solid",))
     work = solid_work(service, body.profile, body.solid, fmt.name)
+    # the CAD kernel loads on the first solid a worker makes (~1 s, once), in a thread and
+    # outside the request's budget and deadline: it is the worker's start-up, not the request's
+    # work, and loading it at start would delay every worker's first answer by as much
+    await run_in_threadpool(load_kernel)
     payload = await gate.run(request, work, solid_file, service, body.profile, body.solid, fmt.name)
     return Response(payload, media_type=fmt.media_type,
                     headers={"Content-Disposition": f'attachment; filename="{fmt.file_name}"'})
@@ -86,9 +91,7 @@ SolidBody = Annotated[SolidRequest, Body(openapi_examples=SOLID_EXAMPLES)]
 
 
 def register(router: APIRouter) -> None:
-    """One operation per solid format (``/solid.<ext>``), whose only answer is that file; and
-    the CAD kernel loaded now, while the service starts (~1.5 s), not within a request's deadline."""
-    load_kernel()
+    """One operation per solid format (``/solid.<ext>``), whose only answer is that file."""
     for fmt in SOLID_FORMATS.values():
         _route(router, fmt)
 

@@ -27,14 +27,17 @@ from service.settings import Settings
 pytestmark = pytest.mark.anyio
 
 MS = {"type": "named", "name": "MS"}
+#: a Bezier rise of degree 20: a law 30 times as costly to evaluate as MS
+BEZIER_20 = {"type": "bezier", "control_points": [[i / 20, (1 - (1 - i / 20) ** 2) if i < 20 else 1.0]
+                                                  for i in range(21)]}
 
 
-def cam(segments: int) -> dict[str, Any]:
-    """A roller cam of ``segments`` alternating MS rises and returns over 360°."""
+def cam(segments: int, curve: dict[str, Any] = MS) -> dict[str, Any]:
+    """A roller cam of ``segments`` alternating rises and returns of ``curve`` over 360°."""
     span = 360 / segments
     kinds = ["rise", "return"] * (segments // 2) + ["dwell"] * (segments % 2)
     return {"follower": {"type": "roller", "roller_radius_mm": 10}, "base_radius_mm": 40,
-            "segments": [{"type": k, "angle_deg": span, **({"lift_mm": 5, "curve": MS} if k != "dwell" else {})}
+            "segments": [{"type": k, "angle_deg": span, **({"lift_mm": 5, "curve": curve} if k != "dwell" else {})}
                          for k in kinds]}
 
 
@@ -72,13 +75,15 @@ async def test_base_circle_is_refused_just_past_the_budget(app_client: tuple[Any
     app, client = app_client
     from service.profiles.specs import ProfileSpec
 
+    # MS segments are cheap enough that 360 of them (the most a profile takes) fit the budget
     def estimate(n: int) -> float:
-        spec = ProfileSpec.model_validate(cam(n))
+        spec = ProfileSpec.model_validate(cam(n, BEZIER_20))
         return float(app.state.profile_service.base_circle_work(spec, 30.0, None).seconds)
 
-    n = edge(estimate, range(2, 80))
+    n = edge(estimate, range(2, 361))
     assert estimate(n + 1) > estimate(n)  # more segments, more work
-    refused = await client.post("/v1/profiles/base-circle", json={"profile": cam(n + 1), "max_pressure_angle_deg": 30})
+    refused = await client.post("/v1/profiles/base-circle",
+                                json={"profile": cam(n + 1, BEZIER_20), "max_pressure_angle_deg": 30})
     assert refused.status_code == 413, refused.text
     body = refused.json()
     assert body["limit"]["name"] == "estimated work [s]" and body["limit"]["limit"] == 1.0
@@ -86,7 +91,8 @@ async def test_base_circle_is_refused_just_past_the_budget(app_client: tuple[Any
     assert f"profile checks of {n + 1} segments" in body["detail"] and "reduce that" in body["detail"]
     assert body["errors"][0]["loc"] == ["body", "profile", "segments"]
     assert no_base_circle_work == []  # refused before any work
-    accepted = await client.post("/v1/profiles/base-circle", json={"profile": cam(n), "max_pressure_angle_deg": 30})
+    accepted = await client.post("/v1/profiles/base-circle",
+                                 json={"profile": cam(n, BEZIER_20), "max_pressure_angle_deg": 30})
     assert accepted.status_code == 200, accepted.text
     assert no_base_circle_work == [1]
 
@@ -305,3 +311,35 @@ async def test_every_answer_says_how_long_the_server_took(app_client: tuple[Any,
     slow = await client.post("/v1/curves/table", json={"curve": MS, "samples": 11})
     assert slow.status_code == 200
     assert float(slow.headers["server-timing"].split("=")[1]) >= 200  # the 0.2 s of work is in it
+
+
+async def test_small_work_runs_on_the_event_loop_and_large_work_through_the_gate(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 21: a sizing on a cached curve (estimated 1.6 ms) is answered without the gate's
+    thread and slot; with CAMCORE_INLINE_WORK_S=0 the same request goes through them, with the
+    same answer."""
+    watched: list[int] = []
+    real = WorkGate._run_watched
+
+    async def counted(self: WorkGate, *args: Any) -> Any:
+        watched.append(1)
+        return await real(self, *args)
+
+    monkeypatch.setattr(WorkGate, "_run_watched", counted)
+    body = {"indexer": {"stops": 6, "indexing_angle_deg": 270, "speed_rpm": 60, "curve": MS},
+            "load": {"parts": [{"shape": "disc", "mass_kg": 50, "diameter_mm": 600}]}}
+    answers = []
+    for inline_s in (0.002, 0.0):
+        app = create_app(Settings(inline_work_s=inline_s))
+        async with httpx.AsyncClient(transport=httpx.ASGITransport(app=app), base_url="http://t") as client:
+            first = await client.post("/v1/indexers/sizing", json=body)  # builds the curve: through the gate
+            assert first.status_code == 200 and len(watched) == 1
+            watched.clear()
+            # another load (not the cached answer) on the same, now cached, curve
+            again = await client.post("/v1/indexers/sizing", json={**body, "load": {"parts": [
+                {"shape": "disc", "mass_kg": 51, "diameter_mm": 600}]}})
+            assert again.status_code == 200
+            answers.append(again.json())
+            assert len(watched) == (0 if inline_s else 1)
+            watched.clear()
+    assert answers[0] == answers[1]

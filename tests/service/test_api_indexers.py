@@ -113,3 +113,20 @@ async def test_load_validation(client: httpx.AsyncClient, load: dict, words: str
     r = await client.post("/v1/indexers/sizing", json={"indexer": GUIDE, "load": load})
     assert r.status_code == 422
     assert words in r.json()["detail"]
+
+
+async def test_the_same_sizing_again_comes_from_the_cache(client: httpx.AsyncClient) -> None:
+    """Issue 21: a repeated sizing request is answered from the cache, byte for byte; another
+    load is another request and is computed."""
+    body = {"indexer": {"stops": 8, "indexing_angle_deg": 240, "speed_rpm": 45, "curve": {"type": "named", "name": "MS"}},
+            "load": {"parts": [{"shape": "disc", "mass_kg": 20, "diameter_mm": 400}]}}
+    before = (await client.get("/health")).json()["caches"]["sizings"]
+    first = await client.post("/v1/indexers/sizing", json=body)
+    again = await client.post("/v1/indexers/sizing", json=body)
+    other = await client.post("/v1/indexers/sizing", json={**body, "load": {"parts": [
+        {"shape": "disc", "mass_kg": 21, "diameter_mm": 400}]}})
+    after = (await client.get("/health")).json()["caches"]["sizings"]
+    assert first.status_code == again.status_code == other.status_code == 200
+    assert again.content == first.content and again.headers["content-type"] == "application/json"
+    assert after["hits"] - before["hits"] == 1 and after["misses"] - before["misses"] == 2
+    assert other.json()["inertia_kgm2"] > first.json()["inertia_kgm2"]

@@ -44,6 +44,21 @@ async def test_profile_json_columns_and_checks(client: httpx.AsyncClient) -> Non
     assert abs((body["pitch_x_mm"][i] ** 2 + body["pitch_y_mm"][i] ** 2) ** 0.5 - 70.0) < 1e-9
 
 
+async def test_checks_are_kept_by_cam(client: httpx.AsyncClient) -> None:
+    """Issue 21: a cam asked again at other samples or as a file reuses its checks (they
+    depend on neither); another base radius is another cam and computes its own."""
+    cam = {**ROLLER, "base_radius_mm": 41.25}
+    before = (await client.get("/health")).json()["caches"]["profile_checks"]
+    first = (await client.post("/v1/profiles", json={"profile": cam, "samples": 361})).json()
+    again = (await client.post("/v1/profiles", json={"profile": cam, "samples": 17})).json()
+    assert (await client.post("/v1/profiles?format=dxf", json={"profile": cam, "samples": 73})).status_code == 200
+    other = (await client.post("/v1/profiles", json={"profile": {**cam, "base_radius_mm": 45}, "samples": 17})).json()
+    after = (await client.get("/health")).json()["caches"]["profile_checks"]
+    assert after["hits"] - before["hits"] == 2 and after["misses"] - before["misses"] == 2
+    assert again["checks"] == first["checks"]
+    assert other["checks"]["max_pressure_angle_deg"] < first["checks"]["max_pressure_angle_deg"]
+
+
 async def test_profile_csv_and_contour_downloads(client: httpx.AsyncClient) -> None:
     r = await client.post("/v1/profiles", json={"profile": ROLLER, "samples": 5}, headers={"Accept": "text/csv"})
     assert r.status_code == 200 and r.text.startswith("cam_angle_deg,lift_mm,x_mm,y_mm")

@@ -17,6 +17,7 @@ import pytest
 
 from service.app import create_app
 from service.indexers.specs import INDEXER_EXAMPLE
+from service.cams.barrel_specs import BARREL_EXAMPLE
 from service.motions.specs import FEED_CYCLE
 from service.profiles.dynamics_specs import DYNAMICS_EXAMPLE
 from service.profiles.specs import KNIFE_EDGE_PROFILE_EXAMPLE
@@ -40,6 +41,7 @@ SWEEP = {"load": {"inertia_kgm2": 2}, "stops": [6], "indexing_angle_deg": [270],
          "speed_rpm": [30, 60]}
 SOLID = {**PROFILE, "solid": {"thickness_mm": 10, "bore_diameter_mm": 10}}
 TOOLPATH = {"profile": KNIFE_EDGE_PROFILE_EXAMPLE, "tool_radius_mm": 5, "tolerance_mm": 0.01}
+BARREL = {**BARREL_EXAMPLE, "samples": 13}
 
 # (method, path template, url, body, headers, media type answered)
 CASES: list[tuple[str, str, str, dict[str, Any] | None, dict[str, str], str]] = [
@@ -104,6 +106,10 @@ CASES: list[tuple[str, str, str, dict[str, Any] | None, dict[str, str], str]] = 
     ("POST", "/v1/indexers/vibration.csv", "/v1/indexers/vibration.csv", INDEXER_VIBRATION, {}, "text/csv"),
     ("GET", "/v1/curves/vibration/plot", "/v1/curves/vibration/plot?samples=101&curves=MS,cycloid", None, {},
      "image/svg+xml"),
+    ("POST", "/v1/cams/barrel", "/v1/cams/barrel", BARREL, {}, "application/json"),
+    ("POST", "/v1/cams/barrel", "/v1/cams/barrel?format=csv", BARREL, {}, "text/csv"),
+    ("POST", "/v1/cams/barrel", "/v1/cams/barrel", BARREL, CSV_ACCEPT, "text/csv"),
+    ("POST", "/v1/cams/barrel.csv", "/v1/cams/barrel.csv", BARREL, {}, "text/csv"),
 ]
 if "/v1/curves/{name}/value" in DOC["paths"]:  # the spreadsheet cell (API contract: one bare number)
     CASES.append(("GET", "/v1/curves/{name}/value", "/v1/curves/MS/value?t=0.3&quantity=s", None, {}, "text/plain"))
@@ -149,8 +155,8 @@ def test_file_twins_answer_only_their_file() -> None:
     twins = {path: ops["post"] if "post" in ops else ops["get"] for path, ops in DOC["paths"].items()
              if path.endswith((".csv", ".dxf", ".xyz", ".step", ".stl", ".nc"))}
     # the 12 table and contour files, the 2 vibration tables, the cam table, the toolpath's G-code
-    # and DXF, the two solids
-    assert len(twins) == 19, sorted(twins)
+    # and DXF, the two solids, the barrel cam's table
+    assert len(twins) == 20, sorted(twins)
     for path, op in twins.items():
         content = op["responses"]["200"]["content"]
         assert len(content) == 1, (path, list(content))

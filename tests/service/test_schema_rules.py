@@ -144,6 +144,21 @@ def base_circle(follower: dict[str, Any], **fields: Any) -> tuple[str, dict[str,
     return "/v1/profiles/base-circle", {"profile": profile(follower), **fields}
 
 
+def barrel(**fields: Any) -> tuple[str, dict[str, Any]]:
+    """A barrel cam (translating, 30 mm rise) with ``fields`` changed; None removes a field."""
+    spec: dict[str, Any] = {"pitch_radius_mm": 50, "roller_radius_mm": 10, "segments": segments({"lift_mm": 30}),
+                            "samples": 9, "length_samples": 2}
+    spec.update(fields)
+    return "/v1/cams/barrel", {k: v for k, v in spec.items() if v is not None}
+
+
+#: an oscillating barrel cam's arm and swing; motion programs of each unit
+BARREL_ARM = {"follower": "oscillating", "arm_length_mm": 80, "initial_arm_angle_deg": -10,
+              "segments": segments({"swing_deg": 20})}
+MM_PROGRAM = {"unit": "mm", "segments": [{"span_deg": 180, "to": 20}, {"span_deg": 180, "to": 0}]}
+DEG_PROGRAM = {"unit": "deg", "segments": [{"span_deg": 180, "to": 20}, {"span_deg": 180, "to": 0}]}
+
+
 POLY = {"type": "polynomial"}
 
 
@@ -439,6 +454,30 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
          ("/v1/profiles/toolpath", {"profile": profile({"type": "knife-edge"}), "tool_radius_mm": 6, "side": "inside"})],
         [(("/v1/profiles/toolpath", {"profile": profile({"type": "knife-edge"}), "tool_radius_mm": 6,
                                      "side": "groove"}), "a groove is the track of a roller")]),
+    # barrel cams
+    "give the barrel cam's lift as segments or as a motion program": (
+        [barrel(), barrel(segments=None, motion=MM_PROGRAM)],
+        [(barrel(motion=MM_PROGRAM), "give the barrel cam's lift as segments or as a motion program"),
+         (barrel(segments=None), "give the barrel cam's lift as segments or as a motion program")]),
+    "an oscillating barrel-cam follower needs arm_length_mm": (
+        [barrel(**BARREL_ARM)],
+        [(barrel(**{**BARREL_ARM, "arm_length_mm": None}), "an oscillating barrel-cam follower needs arm_length_mm")]),
+    "a conical roller rolls on a translating follower only (an oscillating arm moves its apex off the cam axis)": (
+        [barrel(roller="conical"), barrel(**BARREL_ARM, roller="cylindrical")],
+        [(barrel(**BARREL_ARM, roller="conical"), "a conical roller rolls on a translating follower only")]),
+    "an oscillating barrel-cam follower's motion program is in deg (of swing)": (
+        [barrel(**{**BARREL_ARM, "segments": None}, motion=DEG_PROGRAM)],
+        [(barrel(**{**BARREL_ARM, "segments": None}, motion=MM_PROGRAM), "motion program is in deg (of swing)")]),
+    "a translating barrel-cam follower's motion program is in mm": (
+        [barrel(segments=None, motion=MM_PROGRAM)],
+        [(barrel(segments=None, motion=DEG_PROGRAM), "a translating barrel-cam follower's motion program is in mm")]),
+    "an oscillating barrel-cam follower's lift is swing_deg, not lift_mm": (
+        [barrel(**BARREL_ARM)],
+        [(barrel(**{**BARREL_ARM, "segments": segments({"lift_mm": 20})}),
+          "an oscillating barrel-cam follower's lift is swing_deg, not lift_mm")]),
+    "a translating barrel-cam follower's lift is lift_mm, not swing_deg": (
+        [barrel()],
+        [(barrel(segments=segments({"swing_deg": 20})), "a translating barrel-cam follower's lift is lift_mm")]),
 }
 
 
@@ -552,6 +591,10 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     # inertia summed over its parts; what the curve's acceleration turns out to be
     "must lie within 0.001 ≤ τ ≤ 1000: change stiffness_nm_rad", "the load's inertia must be greater than 0",
     "the curve's acceleration is not", "the curve's displacement jumps",
+    # barrel cams: the roller's length, the groove's depth and the pitch radius compared; the arm's
+    # angle and offset over the turn, known once the lift is evaluated
+    "must be less than twice pitch_radius_mm", "must be at least roller_length_mm",
+    "the groove would cut through the axis", "of square to the cam axis", "beyond the radius of the roller's inner end",
     # a result beyond the range of float64
     "produced a non-finite number",
 )))

@@ -7,7 +7,7 @@ each function on the grid (up to :data:`MAX_CANDIDATES` of them, so a second bas
 sampled peak is a little lower than the first is refined too) are refined by golden section
 in both neighbouring cells, all lanes of all functions in one search (one evaluation of the
 state per step, however many functions and candidates). A cell is refined to
-:data:`camcore._solvers.PERIODIC_WIDTH` (1e-9 rad): the value is then within ½|f''|·1e-18 of the
+:data:`camcore._maxima.PERIODIC_WIDTH` (1e-9 rad): the value is then within ½|f''|·1e-18 of the
 extreme, below the rounding of the functions themselves.
 
 References
@@ -22,7 +22,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..._solvers import PERIODIC_WIDTH, golden_max
+from ..._maxima import PERIODIC_WIDTH, golden_max
 from ...curves.base import FloatArray
 
 #: local maxima of the sampled function refined per function (the best ones by sampled value)
