@@ -21,6 +21,7 @@ from service.curves.service import CurveService
 from service.curves.specs import (
     CHARACTERISTICS_EXAMPLES,
     INVERSE_EXAMPLES,
+    QM_CONVENTIONS,
     TABLE_EXAMPLES,
     CatalogAnswer,
     CatalogEntryAnswer,
@@ -64,7 +65,7 @@ Format = Annotated[Literal["json", "csv"] | None, Query(description="csv for spr
 @router.get("", operation_id="listCurves", response_model=CatalogAnswer, responses=ERRORS)
 def list_curves(service: Service) -> Response:
     """The catalog: every named curve with its aliases, source and characteristic values."""
-    return JSONBody({"curves": service.catalog()})
+    return JSONBody({"curves": service.catalog(), "conventions": QM_CONVENTIONS})
 
 
 @router.get("/{name}", operation_id="getCurve", response_model=CatalogEntryAnswer, responses=ERRORS)

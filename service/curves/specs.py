@@ -342,5 +342,14 @@ class CatalogEntryAnswer(BaseModel):
     characteristics: CharacteristicsAnswer  # type: ignore[valid-type]  # derived answer model (service.models)
 
 
+#: which torque coefficient is which: the catalog's and Makino's tables differ by the factor Am
+QM_CONVENTIONS: dict[str, str] = {
+    "qm": "qm_pos, qm_neg: Q = A·V/Am, the torque coefficient of the indexer catalog (the cycloid's is 1.30)",
+    "qm_raw": "qm_raw_pos, qm_raw_neg: A·V, as Makino and most Japanese tables print (AV)max (the cycloid's is "
+              "8.16)",
+}
+
+
 class CatalogAnswer(BaseModel):
     curves: list[CatalogEntryAnswer]
+    conventions: dict[str, str] = Field(description="which Qm is which (qm: A·V/Am; qm_raw: A·V)")
