@@ -298,6 +298,9 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
          (timing(timing={**TIMING_CHART, "period_deg": 720, "segments": [
              {"span_deg": 540, "stroke": 60, "curve": MS}, {"span_deg": 180, "type": "dwell"}]}),
           "a timing chart spans one input turn")]),
+    "input_angle_origin dwell-centre is for a single-curve indexer: a timing chart starts at its own 0°": (
+        [timing(input_angle_origin="index-start"), indexer(input_angle_origin="dwell-centre")],
+        [(timing(input_angle_origin="dwell-centre"), "a timing chart starts at its own 0°")]),
     "give exactly one of speed_rpm (N) and cycle_time_s (t0 = 60/(N·z))": (
         [indexer(speed_rpm=None, cycle_time_s=2)],
         [(indexer(cycle_time_s=1), "give exactly one of speed_rpm (N) and cycle_time_s"),
