@@ -11,6 +11,7 @@ import camcore
 from service.admission import InFlightLimit, WorkGate
 from service.cams import routes as cams
 from service.curves import routes as curves
+from service.curves import sweep as curve_sweep
 from service.curves.service import CurveService
 from service.errors import install_error_handlers
 from service.health import router as health_router
@@ -65,7 +66,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.profile_service = ProfileService(app.state.curve_service, app.state.motion_service)
     install_error_handlers(app)
     # vibration before plots: its GET /v1/curves/vibration/plot would match /v1/curves/{name}/plot
-    app.example_routers = (health_router, curves.router, indexers.router, profiles.router, motions.router,
+    app.example_routers = (health_router, curves.router, curve_sweep.router, indexers.router, profiles.router, motions.router,
                            vibration.router, plots.router, dynamics.router, cams.router)
     for router in app.example_routers:
         app.include_router(router)

@@ -47,6 +47,8 @@ def _nested(hint: Any, outer: str) -> Any:
     if dataclasses.is_dataclass(hint) and isinstance(hint, type):
         return answer_model(hint, f"{hint.__name__}Answer")
     args = typing.get_args(hint)
+    if typing.get_origin(hint) is list and args:
+        return list[_nested(args[0], outer)]  # type: ignore[misc]
     if args and any(dataclasses.is_dataclass(a) for a in args):
         return functools.reduce(operator.or_, (_nested(a, outer) for a in args))
     return hint

@@ -21,6 +21,7 @@ from numpy.typing import ArrayLike, NDArray
 from .._solvers import illinois_roots, newton_roots
 from ..results import Extremum, doc
 from .base import FloatArray, PiecewiseCurve
+from .jumps import AccelerationJump, acceleration_jumps
 
 #: samples per piece used to bracket the roots of a derivative before refining them;
 #: every piece of every curve we build has at most a few extrema, far fewer than this.
@@ -51,6 +52,9 @@ class Characteristics:
     v_min: Extremum = field(metadata=doc("smallest V"))
     s_max: Extremum = field(metadata=doc("largest S"))
     s_min: Extremum = field(metadata=doc("smallest S"))
+    a_jumps: tuple[AccelerationJump, ...] = field(default=(), metadata=doc(
+        "where A jumps (the jerk is unbounded there, beyond jm_pos and jm_neg): T, A before, A after; T0 and "
+        "T7 against the dwells (A = 0)"))
 
 
 def critical_points(curve: PiecewiseCurve, slopes: Callable[[list[FloatArray]], FloatArray],
@@ -221,6 +225,7 @@ def characteristics(curve: PiecewiseCurve) -> Characteristics:
         v_min=v_min,
         s_max=s_max,
         s_min=s_min,
+        a_jumps=acceleration_jumps(curve, am),
     )
 
 

@@ -99,7 +99,7 @@ CURVE_KINDS: dict[str, CurveKind] = {
         CurveKind("named", "a catalog curve by id, alias or Makino number", named_curve, ("name",),
                   lambda p: CLOSED_FORM_COST),
         CurveKind("makino", "Makino's curve by classification number, with its own parameters",
-                  makino_curve, ("number", "z", "t4", "t1", "t3"), lambda p: CLOSED_FORM_COST),
+                  makino_curve, ("number", "z", "t4", "t1", "t3", "vm", "t1_over_t3", "v_ratio"), lambda p: CLOSED_FORM_COST),
         CurveKind("universal", "Makino's universal cam curve: break points and end conditions",
                   universal_curve, ("t", "m", "v0", "v7", "s0", "s7"), lambda p: CLOSED_FORM_COST),
         CurveKind("polynomial", "a polynomial law by name, or the least-degree one meeting end conditions",

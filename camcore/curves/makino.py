@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 from .._checks import finite
 from ..errors import InvalidParameterError
+from .targets import solve_targets
 from .universal import PI, UniversalCurve, universal_curve
 
 
@@ -221,6 +222,9 @@ def makino_curve(number: int, **params: float | None) -> UniversalCurve:
         36 (``t1``, default 1/8).
     **params : float or None
         The special curve's parameters [-] (dimensionless times and ratios); None means not given.
+        Curve 4 may give the target ``vm`` (and ``t1_over_t3``, default 1/4) instead of
+        ``t1``, ``t3``; curve 1 ``v_ratio`` (= V7/V3) instead of ``z``
+        (:func:`camcore.curves.targets.solve_targets`).
 
     Returns
     -------
@@ -228,8 +232,9 @@ def makino_curve(number: int, **params: float | None) -> UniversalCurve:
 
     References
     ----------
-    Makino (1977), table 2, eqs. (13)-(16), subroutine CURVE.
+    Makino (1977), table 2, eqs. (13)-(16), subroutine CURVE; §5.1 (curve 4 from Vm).
     """
+    params = solve_targets(number, params)
     given = {k for k, v in params.items() if v is not None}
     check_makino_parameters(number, given)
     special = MAKINO_SPECIAL.get(number)

@@ -5,11 +5,13 @@ timing chart (:mod:`.timing`), the load (:mod:`.load`), torque and power sizing
 from .drive import Motor, TorqueTable
 from .kinematics import Indexer
 from .load import G, Load, LoadPart
+from .origin import INPUT_ANGLE_ORIGINS, origin_shift_deg, to_origin
 from .results import IndexerMotion, IndexerPosition, MotionSummary, MotionTable, Sizing
 from .sizing import accuracy_mm, size
 from .timing import TimedIndexer, check_timing, check_timing_frame
 
 __all__ = [
+    "INPUT_ANGLE_ORIGINS",
     "G",
     "Indexer",
     "IndexerMotion",
@@ -25,5 +27,7 @@ __all__ = [
     "accuracy_mm",
     "check_timing",
     "check_timing_frame",
+    "origin_shift_deg",
     "size",
+    "to_origin",
 ]

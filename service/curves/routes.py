@@ -21,11 +21,12 @@ from service.curves.service import CurveService
 from service.curves.specs import (
     CHARACTERISTICS_EXAMPLES,
     INVERSE_EXAMPLES,
+    QM_CONVENTIONS,
     TABLE_EXAMPLES,
     CatalogAnswer,
     CatalogEntryAnswer,
-    CharacteristicsAnswer,
     CharacteristicsRequest,
+    CurveCharacteristicsAnswer,
     CurveSpec,
     CurveTable,
     InverseRequest,
@@ -64,7 +65,7 @@ Format = Annotated[Literal["json", "csv"] | None, Query(description="csv for spr
 @router.get("", operation_id="listCurves", response_model=CatalogAnswer, responses=ERRORS)
 def list_curves(service: Service) -> Response:
     """The catalog: every named curve with its aliases, source and characteristic values."""
-    return JSONBody({"curves": service.catalog()})
+    return JSONBody({"curves": service.catalog(), "conventions": QM_CONVENTIONS})
 
 
 @router.get("/{name}", operation_id="getCurve", response_model=CatalogEntryAnswer, responses=ERRORS)
@@ -75,7 +76,7 @@ def get_curve(name: CurveName, service: Service) -> Response:
 
 
 @router.post("/characteristics", operation_id="getCurveCharacteristics",
-             response_model=CharacteristicsAnswer, responses=ERRORS)
+             response_model=CurveCharacteristicsAnswer, responses=ERRORS)
 async def characteristics(body: Annotated[CharacteristicsRequest, Body(openapi_examples=CHARACTERISTICS_EXAMPLES)],
                           request: Request, service: Service, gate: Gate) -> Response:
     """Vm, Am±, Jm±, Qm± (and raw A·V extremes) with the T where each occurs."""

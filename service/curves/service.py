@@ -17,9 +17,7 @@ from camcore.errors import LimitExceededError, NonMonotoneError
 from camcore.results import as_dict
 from camcore.work import WorkEstimate, WorkTerm, curve_work, law_cost, per_item_work
 from service.cache import LRUCache, held_bytes
-from service.curves.specs import (
-    CurveSpec,
-)
+from service.curves.specs import CurveSpec, MakinoCurveSpec
 from service.errors import within
 from service.responses import encode_cost, encode_table, encode_value
 from service.settings import Settings
@@ -140,8 +138,11 @@ class CurveService:
         return curve is not None and curve.inverse_ready
 
     # ------------------------------------------------------------------ answers
-    def characteristics(self, spec: CurveSpec) -> dict[str, float]:
-        return as_dict(self.curve(spec).characteristics)
+    def characteristics(self, spec: CurveSpec) -> dict[str, Any]:
+        answer = as_dict(self.curve(spec).characteristics)
+        if isinstance(spec, MakinoCurveSpec):  # the parameters as built, those solved from a target among them
+            answer["parameters"] = spec.solved_parameters()
+        return answer
 
     def table_columns(self, spec: CurveSpec, samples: int | None, t: list[float] | None) -> dict[str, np.ndarray]:
         curve = self.curve(spec)

@@ -6,7 +6,7 @@ from __future__ import annotations
 from typing import Annotated, Any, ClassVar, Literal
 
 from fastapi.openapi.models import Example
-from pydantic import BaseModel, Field, GetJsonSchemaHandler, model_validator
+from pydantic import BaseModel, Field, GetJsonSchemaHandler, create_model, model_validator
 from pydantic.json_schema import JsonSchemaValue
 from pydantic_core import CoreSchema
 
@@ -14,6 +14,7 @@ from camcore.curves import Characteristics
 from camcore.curves.kinds import POLYNOMIAL_NAMES
 from camcore.curves.makino import MAKINO_BREAK_POINTS, MAKINO_SPECIAL, check_makino_parameters
 from camcore.curves.polynomial import check_choice
+from camcore.curves.targets import TARGETS, curve_4_vm_range, solve_targets
 from camcore.curves.universal import check_break_points
 from service.models import answer_model
 from service.specs import BIG, JSON_INTEGER, Direction, Finite, Spec, absent, all_of, examples, given, not_both, rule
@@ -55,9 +56,13 @@ class NamedCurveSpec(CurveKindSpec):
 
 
 MAKINO_PARAMETERS = ("z", "t4", "t1", "t3")
+#: targets a special curve may give instead of its own parameters (camcore.curves.targets.TARGETS)
+MAKINO_TARGETS = ("vm", "t1_over_t3", "v_ratio")
 #: a curve's own bound on a parameter, beyond the field's: trapecloid II's T2 = (2 − 6·T1 + π·T1)/(2 + π)
 #: must not fall below T1, which is T1 ≤ 1/4 (its T3 ≤ 1 − T1 holds to T1 ≤ π/(3π − 2) ≈ 0.41)
 MAKINO_PARAMETER_BOUNDS: dict[int, dict[str, dict[str, float]]] = {36: {"t1": {"maximum": 0.25}}}
+#: curve 4's largest Vm, at T1 = T3 = 0.5: 1/(1 − 2/π) (camcore.curves.targets); a smaller T1/T3 reaches less
+CURVE_4_VM_MAX = curve_4_vm_range(1.0)[1]
 
 
 def makino_rules(solvable: dict[int, tuple[str, ...]] | None = None) -> list[dict[str, Any]]:
@@ -67,28 +72,38 @@ def makino_rules(solvable: dict[int, tuple[str, ...]] | None = None) -> list[dic
     for number, special in sorted(MAKINO_SPECIAL.items()):
         takes = special.parameters + special.optional
         required = tuple(p for p in special.parameters if p not in (solvable or {}).get(number, ()))
+        targets, replaced = TARGETS.get(number, ((), ()))
         needs = f"needs {', '.join(required)}" if required else f"takes {', '.join(takes)}"
-        then = all_of(*([given(*required)] if required else []),
-                      absent(*(p for p in MAKINO_PARAMETERS if p not in takes)),
+        own = given(*required) if required else None
+        if targets:  # the parameters, or the target (with its options) instead of them
+            needs += f" (or {targets[0]}{''.join(', optional ' + t for t in targets[1:])} instead of " \
+                     f"{', '.join(replaced)})"
+            own = {"anyOf": [all_of(*([own] if own else []), absent(*targets)),
+                             all_of(given(targets[0]), absent(*replaced))]}
+        then = all_of(*([own] if own else []),
+                      absent(*(p for p in (*MAKINO_PARAMETERS, *MAKINO_TARGETS) if p not in takes + targets)),
                       {"properties": MAKINO_PARAMETER_BOUNDS.get(number, {})})
         rules.append(rule(f"Makino curve {number} {needs} and no other parameter",
                           {"if": {"properties": {"number": {"const": number}}}, "then": then}))
     rules.append(rule("any other number is one of Makino's table 2 (or 11), which take no parameters",
                       {"if": {"properties": {"number": {"not": {"enum": sorted(MAKINO_SPECIAL)}}}},
                        "then": all_of({"properties": {"number": {"enum": sorted(MAKINO_BREAK_POINTS)}}},
-                                      absent(*MAKINO_PARAMETERS))}))
+                                      absent(*MAKINO_PARAMETERS, *MAKINO_TARGETS))}))
     return rules
 
 
 class MakinoCurveSpec(CurveKindSpec):
     """Makino's curve by classification number, with its own parameters.
 
-    1: ``z`` (0 < z ≤ 1); 2: ``t4`` (0 ≤ T4 < 1); 4: ``t1``, ``t3`` (0 < T1 ≤ T3 ≤ 0.5);
-    36: optional ``t1`` (0 < T1 ≤ 1/4);
+    1: ``z`` (0 < z ≤ 1) or ``v_ratio`` = V7/V3 = 1 − z; 2: ``t4`` (0 ≤ T4 < 1);
+    4: ``t1``, ``t3`` (0 < T1 ≤ T3 ≤ 0.5), or the target ``vm`` with ``t1_over_t3``
+    (default 0.25): the T1, T3 that give that Vm (Makino §5.1); 36: optional ``t1`` (0 < T1 ≤ 1/4);
     the numbers of Makino's table 2 and 11 take none.
     """
 
     model_config = examples({"type": "makino", "number": 4, "t1": 0.0625, "t3": 0.25}, {"type": "makino", "number": 26},
+                            {"type": "makino", "number": 4, "vm": 1.27526},
+                            {"type": "makino", "number": 1, "v_ratio": 0.1},
                             rules=makino_rules())
     type: Literal["makino"] = "makino"
     number: Annotated[int, Field(ge=1, le=99), JSON_INTEGER] = Field(examples=[4])
@@ -96,6 +111,13 @@ class MakinoCurveSpec(CurveKindSpec):
     t4: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, lt=1)] | None = None
     t1: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=0.5)] | None = Field(None, examples=[0.0625])
     t3: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=0.5)] | None = Field(None, examples=[0.25])
+    vm: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=1, le=CURVE_4_VM_MAX)] | None = Field(
+        None, description="curve 4: target peak velocity Vm instead of t1, t3 (1 < Vm ≤ 1/(1 − c/2), "
+        "c = 2(1 − k) + (4/π)(2k − 1), k = t1_over_t3)", examples=[1.27526])
+    t1_over_t3: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=1)] | None = Field(
+        None, description="curve 4 with vm: T1/T3 (omitted: 0.25, Makino §5.1)")
+    v_ratio: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, lt=1)] | None = Field(
+        None, description="curve 1: V7/V3, cutting-feed over rapid-feed speed, instead of z (z = 1 − v_ratio)")
     direction: Direction = "rise"
     #: parameters a curve may leave out, by number: none here (a motion program solves curve 2's t4)
     solvable: ClassVar[dict[int, tuple[str, ...]]] = {}
@@ -104,7 +126,8 @@ class MakinoCurveSpec(CurveKindSpec):
     def _check(self) -> MakinoCurveSpec:
         # the rules makino_rules states, checked here (422) before any size limit (413) is:
         # camcore's builder would check them only when the curve is built
-        given = [name for name in MAKINO_PARAMETERS if getattr(self, name) is not None]
+        solved = self.solved_parameters()
+        given = [name for name in MAKINO_PARAMETERS if solved.get(name) is not None]
         check_makino_parameters(self.number, given, self.solvable.get(self.number, ()))
         for name, bound in MAKINO_PARAMETER_BOUNDS.get(self.number, {}).items():
             value = getattr(self, name)
@@ -112,6 +135,11 @@ class MakinoCurveSpec(CurveKindSpec):
                 raise ValueError(f"{MAKINO_SPECIAL[self.number].name} needs {name} ≤ {bound['maximum']:g}, "
                                  f"got {value!r}")
         return self
+
+    def solved_parameters(self) -> dict[str, float]:
+        """The curve's own parameters given or solved from its target (camcore's solve_targets)."""
+        solved = solve_targets(self.number, {name: getattr(self, name) for name in (*MAKINO_PARAMETERS, *MAKINO_TARGETS)})
+        return {name: value for name, value in solved.items() if value is not None}
 
 
 class UniversalCurveSpec(CurveKindSpec):
@@ -293,6 +321,15 @@ class InverseTable(BaseModel):
 CharacteristicsAnswer = answer_model(Characteristics, "CharacteristicsAnswer",
                                      "Characteristic values over [T0, T7] and the T of each.")
 
+#: the answer of POST /v1/curves/characteristics: the values, and a makino spec's parameters as built
+CurveCharacteristicsAnswer = create_model(
+    "CurveCharacteristicsAnswer", __base__=CharacteristicsAnswer,
+    __doc__="Characteristic values over [T0, T7] and the T of each; for a makino spec, its parameters as built.",
+    parameters=(dict[str, float] | None, Field(
+        None, description="makino spec: the parameters the curve was built with, those solved from a target "
+        "among them (t1, t3 from vm; z from v_ratio)")))
+CurveCharacteristicsAnswer.__module__ = __name__
+
 
 class CatalogEntryAnswer(BaseModel):
     id: str
@@ -305,5 +342,14 @@ class CatalogEntryAnswer(BaseModel):
     characteristics: CharacteristicsAnswer  # type: ignore[valid-type]  # derived answer model (service.models)
 
 
+#: which torque coefficient is which: the catalog's and Makino's tables differ by the factor Am
+QM_CONVENTIONS: dict[str, str] = {
+    "qm": "qm_pos, qm_neg: Q = A·V/Am, the torque coefficient of the indexer catalog (the cycloid's is 1.30)",
+    "qm_raw": "qm_raw_pos, qm_raw_neg: A·V, as Makino and most Japanese tables print (AV)max (the cycloid's is "
+              "8.16)",
+}
+
+
 class CatalogAnswer(BaseModel):
     curves: list[CatalogEntryAnswer]
+    conventions: dict[str, str] = Field(description="which Qm is which (qm: A·V/Am; qm_raw: A·V)")

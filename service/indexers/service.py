@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from collections.abc import Callable
+from typing import Any, Literal, TypeVar
 
 import numpy as np
 
@@ -16,6 +17,8 @@ from service.errors import within
 from service.indexers.specs import IndexerSpec, LoadSpec, MotorSpec
 from service.motions.service import MotionService
 from service.responses import encode_cost
+
+T = TypeVar("T")
 
 #: columns of the motion table and of a position answer (angles, times, ω, α, jerk…)
 MOTION_COLUMNS = 8
@@ -126,8 +129,10 @@ class IndexerService:
 
     def motion(self, spec: IndexerSpec, samples: int) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
         self.curves.check_limit("table samples", samples, self.curves.settings.max_table_samples, ("samples",))
-        result = self.indexer(spec).motion(samples)
-        return as_dict(result.summary), result.table.columns()
+        unit = self.indexer(spec)
+        result = unit.motion(samples)
+        move = self._origin(spec, unit)
+        return as_dict(move(result.summary)), move(result.table).columns()
 
     def position(self, spec: IndexerSpec, output_angle_deg: list[float], method: Literal["exact", "table"], table_step: float,
                  table_decimals: int | None) -> dict[str, np.ndarray]:
@@ -144,7 +149,7 @@ class IndexerService:
                 return unit.position(angles).columns()
         with within("indexer", "curve", only=NonMonotoneError):  # the curve cannot be inverted
             result = unit.position(angles, method=method, table_step=table_step, table_decimals=table_decimals)
-        return result.columns()
+        return self._origin(spec, unit)(result).columns()
 
     def sizing(self, spec: IndexerSpec, load: LoadSpec, motor: MotorSpec | None = None,
                table_samples: int = 181) -> dict[str, Any]:
@@ -159,7 +164,19 @@ class IndexerService:
                                           accuracy_radius_mm=load.accuracy_radius_mm,
                                           internal_friction_torque_nm=spec.internal_friction_torque_nm,
                                           motor=core_motor, table_samples=table_samples)
-        return as_dict(result)
+        return as_dict(self._origin(spec, unit)(result))
+
+    @staticmethod
+    def _origin(spec: IndexerSpec, unit: Any) -> Callable[[T], T]:
+        """Moves a result's input angles to the spec's ``input_angle_origin``."""
+        with within("indexer"):
+            shift = camcore.indexer.origin_shift_deg(unit, spec.input_angle_origin)
+        cycle = 360.0 / unit.dwells
+
+        def move(result: T) -> T:
+            return camcore.indexer.to_origin(result, shift, cycle)
+
+        return move
 
     @staticmethod
     def core_load(load: LoadSpec) -> camcore.indexer.Load:

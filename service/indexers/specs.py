@@ -48,6 +48,10 @@ TIMING_INDEXER_EXAMPLE: dict[str, object] = {
 TIMING_REPLACES = "a timing chart replaces stops, swing_angle_deg, indexing_angle_deg, dwells and curve: give none of them"
 
 
+#: a timing chart's own 0° is its origin
+DWELL_CENTRE_RULE = "input_angle_origin dwell-centre is for a single-curve indexer: a timing chart starts at its own 0°"
+
+
 class IndexerSpec(Spec):
     """A cam indexer (stops) or oscillating unit (swing angle) at constant input speed, or an
     indexer whose output follows a timing chart over one input turn.
@@ -68,7 +72,9 @@ class IndexerSpec(Spec):
                     {"if": given("timing"), "then": {"properties": {"timing": {"required": ["unit"], "properties": {
                         "unit": {"const": "deg"}, "period_deg": {"const": 360}}}}}}),
                rule("give exactly one of speed_rpm (N) and cycle_time_s (t0 = 60/(N·z))",
-                    exactly_one("speed_rpm", "cycle_time_s"))])
+                    exactly_one("speed_rpm", "cycle_time_s")),
+               rule(DWELL_CENTRE_RULE, {"if": given("timing"), "then": {"properties": {
+                   "input_angle_origin": {"not": {"const": "dwell-centre"}}}}})])
     stops: Annotated[int, Field(ge=1, le=100_000), JSON_INTEGER] | None = Field(None, description="n, stops per output turn")
     swing_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-6, le=360)] | None = Field(
         None, description="ψ, output swing of an oscillating unit (instead of stops)")
@@ -82,6 +88,10 @@ class IndexerSpec(Spec):
         0.0, description="the unit's own friction torque on the input shaft while it turns (the maker's data); in the "
                          "sizing's torque table, RMS and motor figures")
     curve: CurveSpec = Field(default_factory=lambda: NamedCurveSpec(name="MS"))
+    input_angle_origin: Literal["index-start", "dwell-centre"] = Field(
+        "index-start", description="where every input angle of the answer starts: at the start of the index, or at "
+                                   "the centre of the dwell before it (the catalog's keyway reference position, "
+                                   "guide §4-2): angles from the index start plus half the dwell, within one cycle")
     timing: MotionSpec | None = Field(
         None, description="a timing chart: the output angle (unit deg) over one input turn (period_deg 360), in place "
                           "of stops/swing_angle_deg, indexing_angle_deg, dwells and curve; it closes for an "
@@ -96,6 +106,8 @@ class IndexerSpec(Spec):
                         if name in self.model_fields_set and getattr(self, name) is not None]
             if replaced:
                 raise ValueError(f"{TIMING_REPLACES} (given: {', '.join(replaced)})")
+            if self.input_angle_origin == "dwell-centre":
+                raise ValueError(DWELL_CENTRE_RULE)
             check_timing_frame(self.timing.unit, self.timing.period_deg)
             check_speed_alternatives(self.speed_rpm, self.cycle_time_s)
             return self

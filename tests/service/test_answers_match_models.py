@@ -20,6 +20,7 @@ import service.health as health
 from service.app import create_app
 from service.cams import routes as cams
 from service.curves import routes as curves
+from service.curves import sweep as curve_sweep
 from service.indexers import routes as indexers
 from service.motions import routes as motions
 from service.plots import routes as plots
@@ -33,7 +34,7 @@ APP = create_app()
 DOC = APP.openapi()
 # the routers' own routes (this FastAPI lists included routers, not their routes, in app.routes)
 ROUTES = {(route.path, method.lower()): route
-          for module in (cams, curves, dynamics, health, indexers, motions, plots, profiles, vibration)
+          for module in (cams, curves, curve_sweep, dynamics, health, indexers, motions, plots, profiles, vibration)
           for route in module.router.routes if isinstance(route, APIRoute) for method in route.methods}
 GETS = {
     "/v1/curves": {},

@@ -39,6 +39,7 @@ INDEXER_VIBRATION = {"indexer": INDEXER_EXAMPLE, "inertia_kgm2": 2.25, "stiffnes
 CSV_ACCEPT = {"Accept": "text/csv"}
 SWEEP = {"load": {"inertia_kgm2": 2}, "stops": [6], "indexing_angle_deg": [270], "curves": [{"type": "named", "name": "MS"}],
          "speed_rpm": [30, 60]}
+DESIGN = {"curve": {"type": "makino", "number": 4, "t1": 0.0625, "t3": 0.25}, "vary": {"t3": [0.2, 0.25]}}
 SOLID = {**PROFILE, "solid": {"thickness_mm": 10, "bore_diameter_mm": 10}}
 TOOLPATH = {"profile": KNIFE_EDGE_PROFILE_EXAMPLE, "tool_radius_mm": 5, "tolerance_mm": 0.01}
 BARREL = {**BARREL_EXAMPLE, "samples": 13}
@@ -59,6 +60,14 @@ CASES: list[tuple[str, str, str, dict[str, Any] | None, dict[str, str], str]] = 
     ("POST", "/v1/indexers/motion.csv", "/v1/indexers/motion.csv", MOTION, {}, "text/csv"),
     ("POST", "/v1/indexers/position", "/v1/indexers/position", POSITION, CSV_ACCEPT, "text/csv"),
     ("POST", "/v1/indexers/position.csv", "/v1/indexers/position.csv", POSITION, {}, "text/csv"),
+    ("POST", "/v1/curves/characteristics/sweep", "/v1/curves/characteristics/sweep", DESIGN, {}, "application/json"),
+    ("POST", "/v1/curves/characteristics/sweep", "/v1/curves/characteristics/sweep", DESIGN, CSV_ACCEPT, "text/csv"),
+    ("POST", "/v1/curves/characteristics/sweep", "/v1/curves/characteristics/sweep?format=csv", DESIGN, {},
+     "text/csv"),
+    ("POST", "/v1/curves/characteristics/sweep", "/v1/curves/characteristics/sweep?format=png", DESIGN, {},
+     "image/png"),
+    ("POST", "/v1/curves/characteristics/sweep", "/v1/curves/characteristics/sweep?format=svg", DESIGN, {},
+     "image/svg+xml"),
     ("POST", "/v1/indexers/sizing/sweep", "/v1/indexers/sizing/sweep", SWEEP, {}, "application/json"),
     ("POST", "/v1/indexers/sizing/sweep", "/v1/indexers/sizing/sweep", SWEEP, CSV_ACCEPT, "text/csv"),
     ("POST", "/v1/indexers/sizing/sweep", "/v1/indexers/sizing/sweep?format=png", SWEEP, {}, "image/png"),

@@ -18,8 +18,10 @@ import httpx
 import pytest
 from pydantic import BaseModel
 
+from service.app import create_app
 from service.cams import barrel_specs as barrel_schemas
 from service.curves import specs as schemas
+from service.curves import sweep as curve_sweep_schemas
 from service.indexers import specs as indexer_schemas
 from service.indexers import sweep as sweep_schemas
 from service.motions import specs as motion_schemas
@@ -28,7 +30,6 @@ from service.profiles import solids as solid_schemas
 from service.profiles import specs as profile_schemas
 from service.profiles import toolpath as toolpath_schemas
 from service.vibration import specs as vibration_schemas
-from service.app import create_app
 
 pytestmark = pytest.mark.anyio
 
@@ -131,7 +132,8 @@ def request_side_schemas() -> set[str]:
 
 def model_classes() -> dict[str, type[BaseModel]]:
     out: dict[str, type[BaseModel]] = {}
-    for module in (barrel_schemas, schemas, dynamics_schemas, indexer_schemas, sweep_schemas, motion_schemas, profile_schemas,
+    for module in (barrel_schemas, schemas, curve_sweep_schemas, dynamics_schemas, indexer_schemas, sweep_schemas,
+                   motion_schemas, profile_schemas,
                    vibration_schemas, solid_schemas, toolpath_schemas):
         for value in vars(module).values():
             if isinstance(value, type) and issubclass(value, BaseModel):

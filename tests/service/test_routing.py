@@ -15,6 +15,7 @@ import service.routing as routing
 from service.app import create_app
 from service.cams import routes as cams
 from service.curves import routes as curves
+from service.curves import sweep as curve_sweep
 from service.indexers import routes as indexers
 from service.motions import routes as motions
 from service.plots import routes as plots
@@ -58,7 +59,8 @@ def test_malformed_bodies_raise_what_the_standard_library_raises(body: bytes) ->
 
 
 def test_every_api_operation_parses_with_orjson() -> None:
-    routes = [r for module in (cams, curves, dynamics, health, indexers, motions, plots, profiles, vibration)
+    routes = [r for module in (cams, curves, curve_sweep, dynamics, health, indexers, motions, plots, profiles,
+                               vibration)
               for r in module.router.routes]
     operations = sum(len(ops) for ops in create_app().openapi()["paths"].values())
     # every operation of the document is a route of these routers (30 with the file twins,

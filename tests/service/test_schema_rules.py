@@ -210,16 +210,22 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
     "/components/schemas/PointsCurveSpec/required/0": (
         [curve({"type": "points", "t": [0, 1], "s": [0, 1]})],
         [(curve({"t": [0, 1], "s": [0, 1]}), "Unable to extract tag using discriminator 'type'")]),
-    "Makino curve 1 needs z and no other parameter": (
-        [curve({"type": "makino", "number": 1, "z": 0.5})],
+    "Makino curve 1 needs z (or v_ratio instead of z) and no other parameter": (
+        [curve({"type": "makino", "number": 1, "z": 0.5}), curve({"type": "makino", "number": 1, "v_ratio": 0.1})],
         [(curve({"type": "makino", "number": 1}), "Makino curve 1 needs z"),
+         (curve({"type": "makino", "number": 1, "z": 0.9, "v_ratio": 0.1}), "give v_ratio or z, not both"),
          (curve({"type": "makino", "number": 1, "z": 0.5, "t4": 0.5}), "Makino curve 1 takes no parameter t4")]),
     "Makino curve 2 needs t4 and no other parameter": (
         [curve({"type": "makino", "number": 2, "t4": 0.5})],
         [(curve({"type": "makino", "number": 2, "t4": None}), "Makino curve 2 needs t4")]),
-    "Makino curve 4 needs t1, t3 and no other parameter": (
-        [curve({"type": "makino", "number": 4, "t1": 0.0625, "t3": 0.25})],
+    "Makino curve 4 needs t1, t3 (or vm, optional t1_over_t3 instead of t1, t3) and no other parameter": (
+        [curve({"type": "makino", "number": 4, "t1": 0.0625, "t3": 0.25}),
+         curve({"type": "makino", "number": 4, "vm": 1.27526}),
+         curve({"type": "makino", "number": 4, "vm": 2.5, "t1_over_t3": 1})],
         [(curve({"type": "makino", "number": 4, "t1": 0.0625}), "Makino curve 4 needs t3"),
+         (curve({"type": "makino", "number": 4, "vm": 1.3, "t3": 0.25}), "give vm or t1, t3, not both"),
+         (curve({"type": "makino", "number": 4, "t1_over_t3": 0.25}), "t1_over_t3 goes with vm"),
+         (curve({"type": "makino", "number": 4, "vm": 1.3, "v_ratio": 0.1}), "takes no target v_ratio"),
          (curve({"type": "makino", "number": 4, "t1": 0.0625, "t3": 0.25, "z": 1}), "takes no parameter z")]),
     "Makino curve 36 takes t1 and no other parameter": (
         # T1 = 1/4 is the bound itself: T2 = (2 − 6·T1 + π·T1)/(2 + π) = 1/4 = T1
@@ -229,7 +235,18 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
     "any other number is one of Makino's table 2 (or 11), which take no parameters": (
         [curve({"type": "makino", "number": 26}), curve({"type": "makino", "number": 11})],
         [(curve({"type": "makino", "number": 3}), "Makino curve number 3 is not one of"),
-         (curve({"type": "makino", "number": 26, "z": 0.5}), "Makino curve 26 takes no parameter z")]),
+         (curve({"type": "makino", "number": 26, "z": 0.5}), "Makino curve 26 takes no parameter z"),
+         (curve({"type": "makino", "number": 26, "vm": 1.5}), "Makino curve 26 takes no target vm")]),
+    "a makino spec varies z, t4, t1, t3, vm, t1_over_t3, v_ratio": (
+        [("/v1/curves/characteristics/sweep", {"curve": {"type": "makino", "number": 4, "t1": 0.05, "t3": 0.2},
+                                               "vary": {"t3": [0.2, 0.3]}})],
+        [(("/v1/curves/characteristics/sweep", {"curve": {"type": "makino", "number": 4, "t1": 0.05, "t3": 0.2},
+                                                "vary": {"m": [0.5]}}), "a makino spec varies")]),
+    "a universal spec varies t0, t1, t2, t3, t4, t5, t6, t7, m, v0, v7, s0, s7": (
+        [("/v1/curves/characteristics/sweep", {"curve": {"type": "universal", "t": [0, 0.1, 0.1, 0.3, 0.5, 0.75, 0.75, 1]},
+                                               "vary": {"t3": [0.2, 0.3]}})],
+        [(("/v1/curves/characteristics/sweep", {"curve": {"type": "universal", "t": [0, 0.1, 0.1, 0.3, 0.5, 0.75, 0.75, 1]},
+                                                "vary": {"vm": [1.2]}}), "a universal spec varies")]),
     "give either m or v7, not both: with m fixed, V7 is a result": (
         [curve({"type": "universal", "t": [0, 0.2, 0.2, 0.4, 0.4, 0.7, 0.7, 1], "m": 0.5})],
         [(curve({"type": "universal", "t": [0, 0.2, 0.2, 0.4, 0.4, 0.7, 0.7, 1], "m": 0.5, "v7": 0}),
@@ -281,6 +298,9 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
          (timing(timing={**TIMING_CHART, "period_deg": 720, "segments": [
              {"span_deg": 540, "stroke": 60, "curve": MS}, {"span_deg": 180, "type": "dwell"}]}),
           "a timing chart spans one input turn")]),
+    "input_angle_origin dwell-centre is for a single-curve indexer: a timing chart starts at its own 0°": (
+        [timing(input_angle_origin="index-start"), indexer(input_angle_origin="dwell-centre")],
+        [(timing(input_angle_origin="dwell-centre"), "a timing chart starts at its own 0°")]),
     "give exactly one of speed_rpm (N) and cycle_time_s (t0 = 60/(N·z))": (
         [indexer(speed_rpm=None, cycle_time_s=2)],
         [(indexer(cycle_time_s=1), "give exactly one of speed_rpm (N) and cycle_time_s"),
@@ -543,7 +563,7 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     # the lengths of two arrays
     "t and s must have the same length", "v must have one slope per point",
     # two numbers of a spec compared, or summed, or multiplied
-    "curve 4 needs 0 < T1 ≤ T3 ≤ 0.5", "a ring needs inner_diameter_mm ≤ diameter_mm",
+    "curve 4 needs 0 < T1 ≤ T3 ≤ 0.5", "is out of reach", "a ring needs inner_diameter_mm ≤ diameter_mm",
     "the offset must be smaller than the base radius", "segment angles must add to 360°", "The schedule does not close",
     "the total indexing angle θt = θh·z must not exceed 360°",
     # the geometry of Bezier control points
