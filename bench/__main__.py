@@ -24,6 +24,7 @@ import numpy as np
 import orjson
 
 import camcore
+from camcore.curves.batch import characteristic_values
 from camcore.indexer import Indexer, Load, size
 from camcore.indexer.sweep import size_sweep
 
@@ -39,7 +40,7 @@ FIGURES = [
     "table_vs_sin_floor", "scalar_port_vs_table", "inverse_vs_table", "ms_table_vs_numpy", "cycloid_table_vs_mechanism",
     "json_vs_orjson_floor", "http_table_vs_ceiling", "http_p99_ms", "workers_scaling", "profile_rps",
     "characteristics_new_curve_rps", "sizing_rps", "base_circle_ms", "cold_start_vs_bare_fastapi", "sizing_sweep",
-    "sweep_vs_single_sizings",
+    "sweep_vs_single_sizings", "characteristics_sweep_vs_single",
 ]
 REQUEST_FIGURES = {"profile_rps", "characteristics_new_curve_rps", "sizing_rps", "base_circle_ms"}
 
@@ -196,6 +197,27 @@ def sweep_vs_single_sizings(repeats: int) -> dict[str, Any]:
                        "the sweep leaves out) ÷ one size_sweep of the same 36 designs (identical figures)")
 
 
+def characteristics_sweep_vs_single(repeats: int) -> dict[str, Any]:
+    """Appendix 3-2's grid of curve 4 (T3 = I/32, T1 = J/64, T1 ≤ T3: 72 curves): each curve built and
+    its characteristics found one by one ÷ the same curves built and their values found together."""
+    grid = [(j / 64, i / 32) for i in range(1, 9) for j in range(1, 17) if j / 64 <= i / 32]
+
+    def curves() -> list[camcore.Curve]:
+        return [camcore.build_curve("makino", {"number": 4, "t1": t1, "t3": t3}) for t1, t3 in grid]
+
+    def singles() -> None:
+        for curve in curves():
+            _ = curve.characteristics
+
+    def together() -> None:
+        characteristic_values(curves())
+
+    ratios, tb, ts = paired_ratios(singles, together, repeats, invert=True)
+    return figure(ratios, ">= 2", curves=len(grid), singles_ms=round(tb * 1e3, 3), together_ms=round(ts * 1e3, 3),
+                  what="72 curves of appendix 3-2 built and their characteristics found one by one ÷ built and "
+                       "found together (camcore.curves.batch.characteristic_values; identical values)")
+
+
 # --------------------------------------------------------------------------- HTTP figures
 def http_figures(seconds: int, runs: int) -> dict[str, Any]:
     if not shutil.which("wrk"):
@@ -261,6 +283,7 @@ def run(smoke: bool, only: set[str] | None) -> dict[str, Any]:
         "json_vs_orjson_floor": lambda: json_vs_orjson_floor(sizes["json"], r),
         "sizing_sweep": lambda: sizing_sweep(sizes["sizing"], 1 if smoke else 5),
         "sweep_vs_single_sizings": lambda: sweep_vs_single_sizings(1 if smoke else 15),
+        "characteristics_sweep_vs_single": lambda: characteristics_sweep_vs_single(1 if smoke else 15),
         "ms_table_vs_numpy": lambda: peers.ms_table_vs_numpy(sizes["table"], r),
         "cycloid_table_vs_mechanism": lambda: peers.cycloid_table_vs_mechanism(sizes["table"], r),
         "cold_start_vs_bare_fastapi": lambda: request_rates.cold_start(1 if smoke else 5),

@@ -116,10 +116,14 @@ class PiecewiseCurve:
         return len(self.piece_starts)
 
     @cached_property
+    def piece_ends(self) -> FloatArray:
+        """End T of each piece: the next piece's start, T7 for the last [-]."""
+        return np.append(self.piece_starts[1:], self.t_end)
+
+    @cached_property
     def pieces(self) -> list[Piece]:
         """The smooth pieces in order, each with its start and end T."""
-        ends = np.append(self.piece_starts[1:], self.t_end)
-        return [Piece(i, float(a), float(b)) for i, (a, b) in enumerate(zip(self.piece_starts, ends))]
+        return [Piece(i, float(a), float(b)) for i, (a, b) in enumerate(zip(self.piece_starts, self.piece_ends))]
 
     @cached_property
     def break_points(self) -> FloatArray:

@@ -86,8 +86,7 @@ def critical_points(curve: PiecewiseCurve, slopes: Callable[[list[FloatArray]], 
     Dowell and Jarratt (1971), the Illinois method (:func:`camcore._solvers.illinois_roots`);
     Press et al. (2007), §9.4 (:func:`camcore._solvers.newton_roots`).
     """
-    starts = curve.piece_starts
-    ends = np.append(starts[1:], curve.t_end)
+    starts, ends = curve.piece_starts, curve.piece_ends
     n = curve.n_pieces
     # fewer grid points per piece when there are many small pieces (splines of many
     # points: cubic pieces whose derivatives have at most a few roots)

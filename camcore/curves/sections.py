@@ -91,6 +91,47 @@ def half_angle_bases(half_angle: FloatArray) -> tuple[FloatArray, FloatArray]:
     return u / d, u2 / d
 
 
+#: the rows of a section coefficient matrix (:attr:`SectionCurve.coefficients`), in order
+COEFFICIENTS = ("start", "half_omega", "s", "v", "alpha", "b_w", "s_q", "s_r", "v_q", "v_r",
+                "a_c", "a_q", "a_r", "j_c", "j_q", "j_r", "d_c", "d_q", "d_r")
+
+
+def eval_sections(coefficients: FloatArray, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
+    """[S, V, A, J, dJ/dT][: order + 1] at t, each on its section (a column of ``coefficients``).
+
+    Parameters
+    ----------
+    coefficients : ndarray
+        One row per name of :data:`COEFFICIENTS`, one column per section; the columns may
+        come from several curves (their sections need not follow one another) [-].
+    t : ndarray
+        Dimensionless times [-].
+    piece : ndarray of int
+        The column of each t [-].
+    order : int
+        Highest derivative (0..4) [-].
+
+    Returns
+    -------
+    list of ndarray
+        [S, V, A, J, dJ/dT][: order + 1] at t [-].
+
+    References
+    ----------
+    Makino (1977), eqs. (1)-(9): each section α + β·sin ωτ + γ·cos ωτ, integrated exactly.
+    """
+    # one gather for all coefficients: row i of the result is coefficient i per point
+    c = dict(zip(COEFFICIENTS, np.take(coefficients, piece, axis=1)))
+    tau = t - c["start"]
+    q, r = half_angle_bases(tau * c["half_omega"])
+    out = [c["s"] + tau * (c["v"] + 0.5 * c["alpha"] * tau + c["b_w"]) + c["s_q"] * q + c["s_r"] * r]
+    if order >= 1:
+        out.append(c["v"] + c["alpha"] * tau + c["v_q"] * q + c["v_r"] * r)
+    for name in "ajd"[: max(order - 1, 0)]:
+        out.append(c[name + "_c"] + c[name + "_q"] * q + c[name + "_r"] * r)
+    return out
+
+
 class _Sum(NamedTuple):
     """One output as const + Σ coef·basis, zero coefficients left out (basis 0 = τ, 1 = q, 2 = r).
 
@@ -240,7 +281,8 @@ class SectionCurve(Curve):
             "d_q": -2.0 * b_ww,
             "d_r": 2.0 * g_ww,
         }
-        self._coef_matrix = np.array(list(self._coef.values()))
+        assert tuple(self._coef) == COEFFICIENTS
+        self.coefficients = np.array(list(self._coef.values()))
         # the same coefficients per section as Python floats (+ 0.0: no −0)
         self._plans: dict[tuple[int, int], _Plan] = {}
         self._rows: list[_Coef] = []
@@ -250,16 +292,7 @@ class SectionCurve(Curve):
             self._rows.append(_Coef(**row))
 
     def eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
-        # one gather for all coefficients: row i of the result is coefficient i per point
-        c = dict(zip(self._coef, np.take(self._coef_matrix, piece, axis=1)))
-        tau = t - c["start"]
-        q, r = half_angle_bases(tau * c["half_omega"])
-        out = [c["s"] + tau * (c["v"] + 0.5 * c["alpha"] * tau + c["b_w"]) + c["s_q"] * q + c["s_r"] * r]
-        if order >= 1:
-            out.append(c["v"] + c["alpha"] * tau + c["v_q"] * q + c["v_r"] * r)
-        for name in "ajd"[: max(order - 1, 0)]:
-            out.append(c[name + "_c"] + c[name + "_q"] * q + c[name + "_r"] * r)
-        return out
+        return eval_sections(self.coefficients, t, piece, order)
 
     def _plan(self, k: int, order: int) -> _Plan:
         plan = self._plans.get((k, order))

@@ -17,7 +17,8 @@ from fastapi.openapi.models import Example
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model, model_validator
 from starlette.responses import Response
 
-from camcore.curves import build_curve
+from camcore.curves import Curve, build_curve
+from camcore.curves.batch import VALUES, characteristic_values
 from camcore.curves.targets import TARGETS
 from camcore.errors import CamError
 from camcore.work import WorkEstimate, per_item_work
@@ -32,10 +33,11 @@ from service.responses import table_response, wants_csv
 from service.routing import OrjsonRoute
 from service.specs import Finite, Spec, examples, rule
 
-#: one combination: its spec validated, its curve built and its extrema found; measured on a
-#: 2-core machine shared with other work: 0.9 ms per curve 4 or universal curve (a refused
-#: combination ~0.01 ms; appendix 3-2's full 16 × 32 grid, 272 curves, 0.23 s); 0.9 ms × 1.5
-ROW_S = 1.5 * 0.9e-3
+#: one combination: its spec validated and its curve built, then its share of finding every
+#: curve's values together (camcore.curves.batch); measured on a 2-core machine: 65 ms for
+#: the 16 × 32 grid of curve 4 (512 rows, 200 curves, the rest refused at ~0.02 ms each), so
+#: 0.3 ms per curve (0.9 ms when each curve was done alone); 0.3 ms × 1.5
+ROW_S = 1.5 * 0.3e-3
 #: drawing the design chart of 512 rows: 0.12 s PNG or SVG, matplotlib loaded (0.5 s the first
 #: time, as every chart); 0.2 s × 1.5
 CHART_S = 1.5 * 0.2
@@ -44,8 +46,6 @@ CHART_S = 1.5 * 0.2
 UNIVERSAL_VARIABLES = (*(f"t{i}" for i in range(8)), "m", "v0", "v7", "s0", "s7")
 MAKINO_VARIABLES = (*MAKINO_PARAMETERS, *MAKINO_TARGETS)
 Variable = Literal[tuple(dict.fromkeys((*MAKINO_VARIABLES, *UNIVERSAL_VARIABLES)))]  # type: ignore[valid-type]
-#: the characteristic values of each row (camcore.curves.Characteristics)
-VALUES = ("vm", "am_pos", "am_neg", "jm_pos", "jm_neg", "qm_pos", "qm_neg")
 
 APPENDIX_3_2_EXAMPLE: dict[str, Any] = {
     "curve": {"type": "makino", "number": 4, "t1": 0.015625, "t3": 0.03125},
@@ -153,12 +153,17 @@ def column(name: str) -> str:
 
 
 def sweep(curves: CurveService, body: CharacteristicsSweepRequest) -> dict[str, Any]:
-    """The sweep's columns: the varied parameters, solved ones, the values, the error of each row."""
+    """The sweep's columns: the varied parameters, solved ones, the values, the error of each row.
+
+    Each combination is validated and built on its own; the characteristic values of all
+    the built curves are found together (:func:`camcore.curves.batch.characteristic_values`).
+    """
     names = list(body.vary)
     base = body.curve.model_dump()
     model: type[BaseModel] = type(body.curve)
     solved_names = [p for p in MAKINO_PARAMETERS if p not in names] if body.curve.type == "makino" else []
-    columns: dict[str, list[Any]] = {name: [] for name in [*map(column, names), *solved_names, *VALUES, "error"]}
+    columns: dict[str, list[Any]] = {name: [] for name in [*map(column, names), *solved_names, "error"]}
+    built: list[Curve] = []
     for combination in itertools.product(*body.vary.values()):
         values = dict(zip(names, combination))
         for name, value in values.items():
@@ -166,18 +171,23 @@ def sweep(curves: CurveService, body: CharacteristicsSweepRequest) -> dict[str, 
         try:
             spec = model.model_validate(_with(base, body.curve.type, values))
             curve = build_curve(spec.type, spec.parameters(), spec.direction, curves.size_limits())  # type: ignore[attr-defined]
-            ch = curve.characteristics
         except (ValidationError, CamError) as exc:
-            for name in [*solved_names, *VALUES]:
+            for name in solved_names:
                 columns[name].append(np.nan)
             columns["error"].append(_error(exc))
             continue
+        built.append(curve)
         solved = spec.solved_parameters() if isinstance(spec, MakinoCurveSpec) else {}
         for name in solved_names:
             columns[name].append(solved.get(name, np.nan))
-        for name in VALUES:
-            columns[name].append(getattr(ch, name).value)
         columns["error"].append(None)
+    found = characteristic_values(built)
+    has_curve = np.array([error is None for error in columns["error"]], dtype=bool)
+    for name in VALUES:
+        column_values = np.full(has_curve.size, np.nan)
+        column_values[has_curve] = found[name]
+        columns[name] = column_values.tolist()
+    columns["error"] = columns.pop("error")  # the last column
     # a solved parameter the curve does not have (t4 of curve 4) is not a column
     return {name: column for name, column in columns.items()
             if name not in solved_names or not all(np.isnan(x) for x in column)}

@@ -1,0 +1,83 @@
+"""Characteristic values of many curves at once (camcore.curves.batch) equal each curve's own.
+
+The batch stacks the sections of many curves into one pass of the same bracketing grid and
+the same refinement as a curve alone, so the values are not close but identical (``==``);
+any difference would mean a root bracketed or refined differently.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from camcore.curves import build_curve
+from camcore.curves.batch import _PIECES_PER_PASS, VALUES, characteristic_values
+from camcore.curves.sections import SectionCurve
+
+
+def _own(curves: list) -> dict[str, np.ndarray]:
+    return {name: np.array([getattr(c.characteristics, name).value for c in curves]) for name in VALUES}
+
+
+def _appendix_3_2_grid() -> list:
+    """Makino's curve 4 over T3 = I/32, T1 = J/64 (appendix 3-2), the combinations it allows."""
+    curves = []
+    for i in range(1, 9):
+        for j in range(1, 17):
+            if j / 64 <= i / 32:
+                curves.append(build_curve("makino", {"number": 4, "t1": j / 64, "t3": i / 32}))
+    return curves
+
+
+def test_appendix_grid_equals_each_curve() -> None:
+    curves = _appendix_3_2_grid()
+    assert len(curves) == 72
+    found = characteristic_values(curves)
+    own = _own(curves)
+    for name in VALUES:
+        assert np.array_equal(found[name], own[name]), name
+
+
+def test_mixed_kinds_and_directions_in_order() -> None:
+    """Section curves (catalog, universal, returns through their rise) beside curves done one by
+    one (polynomial, Bézier, a return curve); each value lands in its own row."""
+    curves = [
+        build_curve("named", {"name": "MS"}),
+        build_curve("polynomial", {"name": "3-4-5"}),
+        build_curve("universal", {"t": [0, 0.1, 0.1, 0.3, 0.5, 0.75, 0.75, 1], "m": 0.5}),
+        build_curve("named", {"name": "MCV50"}, "return"),
+        build_curve("makino", {"number": 1, "z": 0.4}),
+        build_curve("bezier", {"control_points": [[k / 7, h] for k, h in enumerate([0, 0, 0, 0.2, 0.8, 1, 1, 1])]}),
+        build_curve("named", {"name": "cycloid"}),
+    ]
+    assert not all(isinstance(c, SectionCurve) for c in curves)
+    found = characteristic_values(curves)
+    own = _own(curves)
+    for name in VALUES:
+        assert np.array_equal(found[name], own[name]), name
+
+
+def test_more_pieces_than_one_pass() -> None:
+    """Enough curves for several passes (a pass holds 1020 pieces): the chunks join in order."""
+    rng = np.random.default_rng(7)
+    curves = []
+    while sum(c.n_pieces for c in curves) < 2.5 * _PIECES_PER_PASS:
+        t1, t3 = sorted(rng.uniform(0.01, 0.24, 2))
+        curves.append(build_curve("makino", {"number": 4, "t1": float(t1), "t3": float(t3)}))
+    found = characteristic_values(curves)
+    own = _own(curves)
+    for name in VALUES:
+        assert np.array_equal(found[name], own[name]), name
+
+
+def test_no_curves() -> None:
+    assert all(v.size == 0 for v in characteristic_values([]).values())
+
+
+@pytest.mark.parametrize("name, vm, am", [("MS", 1.76, 5.53), ("cycloid", 2.00, 6.28)])
+def test_catalog_values(name: str, vm: float, am: float) -> None:
+    """INDEXMAN guide, section 5, characteristic table: MS Vm 1.76, Am 5.53; cycloid 2.00, 6.28
+    (printed to the hundredth: half a unit of the last digit)."""
+    found = characteristic_values([build_curve("named", {"name": name})])
+    assert found["vm"][0] == pytest.approx(vm, abs=0.005)
+    assert found["am_pos"][0] == pytest.approx(am, abs=0.005)
