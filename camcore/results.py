@@ -165,6 +165,12 @@ def answer_fields(cls: type) -> list[tuple[str, Any, str | None, bool]]:
 def _listify(hint: Any) -> Any:
     origin = typing.get_origin(hint)
     if origin is np.ndarray:
+        # NDArray[np.bool_] → booleans, NDArray[np.intp] → integers, any other array → numbers
+        scalar = typing.get_args(typing.get_args(hint)[1])[0] if len(typing.get_args(hint)) == 2 else None
+        if scalar is np.bool_:
+            return list[bool]
+        if isinstance(scalar, type) and issubclass(scalar, np.integer):
+            return list[int]
         return list[float]
     if origin is tuple:
         args = [a for a in typing.get_args(hint) if a is not Ellipsis]

@@ -4,7 +4,9 @@ and the index laws of :mod:`camcore.indexer`.
 """
 
 from .barrel import BarrelCam, BarrelChecks, BarrelResult, barrel_profile, make_barrel_cam, sample_barrel
+from .parallel import ParallelCam, ParallelChecks, ParallelResult, make_parallel_cam, sample_parallel
 
 __all__: list[str] = [
     "BarrelCam", "BarrelChecks", "BarrelResult", "barrel_profile", "make_barrel_cam", "sample_barrel",
+    "ParallelCam", "ParallelChecks", "ParallelResult", "make_parallel_cam", "sample_parallel",
 ]

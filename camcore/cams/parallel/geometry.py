@@ -1,0 +1,220 @@
+"""Parallel (conjugate plate) indexing cams: a turret of rollers driven by plate cams on the input shaft.
+
+Frames and conventions
+----------------------
+* The cam (input) axis is the z axis through O; the turret (output) axis is parallel to it
+  through A = (C, 0), C = ``center_distance_mm``. The cam turns counter-clockwise seen from +z
+  by the cam angle θ; the plates' contours are given in the cam's own frame, the cam at θ = 0
+  (a fixed-frame point p is R(−θ)·p there). θ = 0 is the start of the index.
+* Each roller is an oscillating roller follower of :mod:`camcore.profile.followers` with the
+  pivot at A, arm = the rollers' pitch radius Rp and the arm angle α from the line A→O: its
+  centre is B(α) = (C − Rp·cos α, Rp·sin α). The turret turns clockwise seen from +z, so every
+  arm angle grows by the turret's angle φ(θ) (α = α₀ + φ); φ = 0 → h over the index (the
+  indexer's law, :class:`camcore.indexer.Indexer`), h = 360°/stops, then stands for the dwell,
+  and advances by h every turn.
+* Layout: plate p (0 … P−1, P = ``plates``) works with its own layer of m =
+  ``rollers_per_plate`` rollers, a pitch 2π/m apart; the layers are staggered by 2π/(m·P). At
+  θ = 0 roller k of plate p stands at α₀ = −π/m + p·2π/(m·P) + k·2π/m, so plate 0's first two
+  rollers straddle the line of centres symmetrically in the dwell. m must be a multiple of the
+  stops, so that after one index every layer stands where it stood and one plate serves every
+  turn.
+
+The plate
+---------
+Each plate is what its rollers leave of a disc about the cam axis of radius C: every roller
+sweeps a band in the cam's frame over a turn (its centre's path, widened by its radius), and
+the plate is the part of the disc that no band covers and that holds the cam axis (the
+boolean operations by Shapely/GEOS, the paths as polylines of 8 points per sampled cam angle).
+Each vertex of its contour is then put on the exact circle of the roller that touches it there:
+the roller and cam angle whose centre is nearest (a golden-section search over the cam angle on
+the exact index law), the vertex moved along the line from that centre to the roller's radius.
+At that roller and cam angle the follower model gives the pressure angle and the radius of
+curvature of the plate.
+
+A roller is in contact with its plate at a cam angle where one of its two envelope points (the
+follower model's contact point, or the opposite point of the roller where the roller overtakes
+the cam's surface) lies on the contour, within 0.1 % of the roller radius (the contour is a
+polyline through exact points). The force of the plate on the roller acts along the contact
+normal (from the plate into the roller): it drives the turret forward where the normal has a
+component along the roller's velocity, and holds it back otherwise. The plates hold the
+turret (conjugacy) at a cam angle where some contact drives and some contact holds.
+
+References
+----------
+.. [1] INDEXMAN technical guide, sections 2-1 to 2-4 and 5: the index law (n = 360/ψ, θh,
+   s = h·S) that the turret follows.
+.. [2] Shinzato and Kunigami (1988): the oscillating roller follower's pitch curve and
+   pressure angle (:mod:`camcore.profile.followers`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..._checks import count, positive
+from ...curves.base import FloatArray
+from ...curves.curve import Curve
+from ...errors import GeometryError, InvalidParameterError
+from ...indexer import Indexer
+from ...profile.followers import Follower, RollerOscillating
+
+
+@dataclass(frozen=True)
+class ParallelCam:
+    """A parallel indexing cam's geometry and index law (see the module notes for the layout)."""
+
+    stops: int
+    plates: int
+    rollers_per_plate: int
+    center_distance_mm: float
+    roller_pitch_radius_mm: float
+    roller_radius_mm: float
+    indexer: Indexer
+
+    @property
+    def pitch_rad(self) -> float:
+        """2π/m, the angle between neighbouring rollers of one plate [rad]."""
+        return 2 * math.pi / self.rollers_per_plate
+
+    @property
+    def index_rad(self) -> float:
+        """h = 2π/stops, the turret's turn per index [rad]."""
+        return 2 * math.pi / self.stops
+
+    def start_angles(self, plate: int) -> FloatArray:
+        """α₀ of the plate's rollers at θ = 0 [rad]."""
+        k = np.arange(self.rollers_per_plate, dtype=np.float64)
+        return np.asarray(-self.pitch_rad / 2 + plate * self.pitch_rad / self.plates + k * self.pitch_rad)
+
+    def turret(self, theta: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """φ, dφ/dθ, d²φ/dθ² at any cam angles (turn k adds k·h) [rad, -, 1/rad]."""
+        theta = np.asarray(theta, dtype=np.float64)
+        turns = np.floor(theta / (2 * math.pi))
+        within = np.degrees(theta - turns * 2 * math.pi)
+        table = self.indexer.motion_at(np.clip(within, 0.0, 360.0).reshape(-1))
+        shape = theta.shape
+        phi = np.radians(table.output_angle_deg).reshape(shape) + turns * self.index_rad
+        return phi, table.dout_din.reshape(shape), table.d2out_din2_per_rad.reshape(shape)
+
+    def centres(self, alpha0: FloatArray | float, theta: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """Roller centres in the cam's frame: α₀ broadcast against θ [mm]."""
+        phi = self.turret(theta)[0]
+        alpha = alpha0 + phi
+        bx = self.center_distance_mm - self.roller_pitch_radius_mm * np.cos(alpha)
+        by = self.roller_pitch_radius_mm * np.sin(alpha)
+        c, s = np.cos(theta), np.sin(theta)
+        return c * bx + s * by, -s * bx + c * by
+
+    def follower(self, alpha0: float) -> _TurretRoller:
+        """Roller of arm angle α₀ at θ = 0 as the profile module's oscillating roller follower."""
+        return _TurretRoller(Follower(type="roller", motion="oscillating", roller_radius_mm=self.roller_radius_mm,
+                                      arm_length_mm=self.roller_pitch_radius_mm,
+                                      pivot_distance_mm=self.center_distance_mm), alpha0)
+
+
+class _TurretRoller(RollerOscillating):
+    """A turret roller: the oscillating roller follower whose arm starts at a given angle (not at
+    the base circle's contact) and swings by the turret's angle."""
+
+    def __init__(self, follower: Follower, alpha0: float):
+        super().__init__(follower)
+        self._alpha0 = alpha0
+
+    def alpha0(self, base_radius_mm: float) -> float:
+        """The roller's arm angle at θ = 0, whatever the base radius [rad]."""
+        return self._alpha0
+
+
+def check_parallel_geometry(stops: int, plates: int, rollers_per_plate: int, center_distance_mm: float,
+                            roller_pitch_radius_mm: float, roller_radius_mm: float) -> None:
+    """Raise :class:`InvalidParameterError` or :class:`GeometryError` for a turret that cannot be built.
+
+    Parameters
+    ----------
+    stops : int
+        Stops per turret turn [-].
+    plates : int
+        Plate cams, 2 or 3 [-].
+    rollers_per_plate : int
+        Rollers in each plate's layer, a multiple of ``stops`` [-].
+    center_distance_mm : float
+        Cam axis to turret axis, C [mm].
+    roller_pitch_radius_mm : float
+        The rollers' pitch radius on the turret, Rp [mm].
+    roller_radius_mm : float
+        Rr [mm].
+
+    Returns
+    -------
+    None
+
+    References
+    ----------
+    INDEXMAN technical guide, section 2-1 (n = 360/ψ).
+    """
+    count("stops", stops)
+    count("rollers_per_plate", rollers_per_plate)
+    if plates not in (2, 3):
+        raise InvalidParameterError(f"plates must be 2 or 3, not {plates!r}.")
+    if rollers_per_plate % stops:
+        raise InvalidParameterError(
+            f"rollers_per_plate must be a multiple of stops (each index moves every layer onto itself), "
+            f"got {rollers_per_plate} rollers for {stops} stops.")
+    c = positive("center_distance_mm", center_distance_mm)
+    rp = positive("roller_pitch_radius_mm", roller_pitch_radius_mm)
+    rr = positive("roller_radius_mm", roller_radius_mm)
+    chord = 2 * rp * math.sin(math.pi / rollers_per_plate)
+    if rollers_per_plate > 1 and not chord > 2 * rr:
+        raise GeometryError(
+            f"The rollers of a plate collide: neighbours {chord!r} mm apart (2·Rp·sin(180°/m)) need more than "
+            f"twice the roller radius, {2 * rr!r} mm.")
+    if not c - rp - rr > 0:
+        raise GeometryError(
+            f"The rollers reach the cam axis: center_distance_mm {c!r} must exceed roller_pitch_radius_mm + "
+            f"roller_radius_mm = {rp + rr!r}.")
+
+
+def make_parallel_cam(stops: int, center_distance_mm: float, roller_pitch_radius_mm: float,
+                      roller_radius_mm: float, indexing_angle_deg: float, curve: Curve | str = "MS",
+                      plates: int = 2, rollers_per_plate: int | None = None) -> ParallelCam:
+    """A parallel indexing cam, its geometry checked.
+
+    Parameters
+    ----------
+    stops : int
+        Stops per turret turn; the turret moves h = 360°/stops per index [-].
+    center_distance_mm : float
+        C, cam axis to turret axis [mm].
+    roller_pitch_radius_mm : float
+        Rp, the rollers' centres' radius on the turret [mm].
+    roller_radius_mm : float
+        Rr [mm].
+    indexing_angle_deg : float
+        θh, the cam angle of the index, 0 < θh < 360 [deg].
+    curve : Curve or str
+        The index law (a curve or a catalog name) [-].
+    plates : int
+        2 or 3 [-].
+    rollers_per_plate : int, optional
+        m, a multiple of ``stops``; default ``stops`` [-].
+
+    Returns
+    -------
+    ParallelCam
+
+    References
+    ----------
+    INDEXMAN technical guide, sections 2-1 to 2-4 (n, θh), section 5 (the index law).
+    """
+    m = stops if rollers_per_plate is None else rollers_per_plate
+    check_parallel_geometry(stops, plates, m, center_distance_mm, roller_pitch_radius_mm, roller_radius_mm)
+    if not indexing_angle_deg < 360:
+        raise InvalidParameterError(
+            f"indexing_angle_deg must be below 360 (the plates hold the turret in the dwell), got {indexing_angle_deg!r}.")
+    indexer = Indexer(indexing_angle_deg=indexing_angle_deg, stops=stops, speed_rpm=1.0,
+                      curve=curve)  # type: ignore[arg-type]  # a name becomes the catalog curve
+    return ParallelCam(stops, plates, m, float(center_distance_mm), float(roller_pitch_radius_mm),
+                       float(roller_radius_mm), indexer)
