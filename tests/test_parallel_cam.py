@@ -185,7 +185,8 @@ def test_two_plates_report_where_the_turret_is_not_held() -> None:
     ({"center_distance_mm": 70}, GeometryError, "reach the cam axis"),
     ({"rollers_per_plate": 6}, InvalidParameterError, "multiple of stops"),
     ({"plates": 4}, InvalidParameterError, "plates must be 2 or 3"),
-    ({"indexing_angle_deg": 360}, InvalidParameterError, "below 360"),
+    ({"indexing_angle_deg": 360}, InvalidParameterError, "1 … 359"),
+    ({"roller_radius_mm": 0.05}, GeometryError, "at least 0.1% of center_distance_mm"),
 ])
 def test_bad_geometry_is_refused(kwargs: dict, error: type, match: str) -> None:
     args = {"stops": 4, "center_distance_mm": C, "roller_pitch_radius_mm": RP, "roller_radius_mm": RR,

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 from fastapi import APIRouter
 
-from service.cams import barrel
+from service.cams import barrel, parallel
 from service.routing import OrjsonRoute
 
 router = APIRouter(prefix="/v1/cams", tags=["cams"], route_class=OrjsonRoute)
 barrel.register(router)
+parallel.register(router)

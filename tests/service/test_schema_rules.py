@@ -598,6 +598,10 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     # angle and offset over the turn, known once the lift is evaluated
     "must be less than twice pitch_radius_mm", "must be at least roller_length_mm",
     "the groove would cut through the axis", "of square to the cam axis", "beyond the radius of the roller's inner end",
+    # parallel cams: one number a multiple of another, and the turret's radii, roller size and centre
+    # distance compared (sums, a sine of the roller pitch, a share); the plates' extent, known once drawn
+    "must be a multiple of stops", "The rollers reach the cam axis", "The rollers of a plate collide",
+    "below the plates' resolution", "reaches the turret's axis", "sweep over the cam axis",
     # a result beyond the range of float64
     "produced a non-finite number",
 )))

@@ -62,6 +62,11 @@ from ...indexer import Indexer
 from ...profile.followers import Follower, RollerOscillating
 
 
+#: the smallest roller and pitch radius, as a share of the centre distance (the plates are drawn
+#: with 8 path points per sample: a roller a thousandth of the cam's size is below that)
+SMALLEST_SHARE = 1e-3
+
+
 @dataclass(frozen=True)
 class ParallelCam:
     """A parallel indexing cam's geometry and index law (see the module notes for the layout)."""
@@ -166,6 +171,10 @@ def check_parallel_geometry(stops: int, plates: int, rollers_per_plate: int, cen
     c = positive("center_distance_mm", center_distance_mm)
     rp = positive("roller_pitch_radius_mm", roller_pitch_radius_mm)
     rr = positive("roller_radius_mm", roller_radius_mm)
+    if min(rp, rr) < SMALLEST_SHARE * c:
+        raise GeometryError(
+            f"roller_pitch_radius_mm {rp!r} and roller_radius_mm {rr!r} must each be at least "
+            f"{SMALLEST_SHARE:.1%} of center_distance_mm {c!r}: smaller ones are below the plates' resolution.")
     chord = 2 * rp * math.sin(math.pi / rollers_per_plate)
     if rollers_per_plate > 1 and not chord > 2 * rr:
         raise GeometryError(
@@ -211,9 +220,10 @@ def make_parallel_cam(stops: int, center_distance_mm: float, roller_pitch_radius
     """
     m = stops if rollers_per_plate is None else rollers_per_plate
     check_parallel_geometry(stops, plates, m, center_distance_mm, roller_pitch_radius_mm, roller_radius_mm)
-    if not indexing_angle_deg < 360:
+    if not 1 <= indexing_angle_deg <= 359:
         raise InvalidParameterError(
-            f"indexing_angle_deg must be below 360 (the plates hold the turret in the dwell), got {indexing_angle_deg!r}.")
+            f"indexing_angle_deg must lie in 1 … 359 (the plates hold the turret in the dwell), got "
+            f"{indexing_angle_deg!r}.")
     indexer = Indexer(indexing_angle_deg=indexing_angle_deg, stops=stops, speed_rpm=1.0,
                       curve=curve)  # type: ignore[arg-type]  # a name becomes the catalog curve
     return ParallelCam(stops, plates, m, float(center_distance_mm), float(roller_pitch_radius_mm),

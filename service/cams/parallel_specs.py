@@ -1,0 +1,109 @@
+"""Specs and answers of ``POST /v1/cams/parallel`` (docs/api.md: parallel indexing cams)."""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from fastapi.openapi.models import Example
+from pydantic import Field, model_validator
+
+from camcore.cams.parallel import Contacts, ParallelChecks, PlateChecks, check_parallel_geometry
+from service.curves.specs import MS_SPEC, CurveSpec, NamedCurveSpec
+from service.models import answer_model
+from service.profiles.specs import PositiveLength
+from service.specs import JSON_INTEGER, DefaultsInDescriptions, Spec, examples
+
+#: sampled cam angles per turn, at most: the plates' paths are 8 points per sample and roller
+MAX_PARALLEL_SAMPLES = 721
+
+#: four stops, three plates of four rollers, index over 120° (MS) — conjugate, pressure angle ≈ 54°
+PARALLEL_EXAMPLE: dict[str, object] = {
+    "stops": 4, "plates": 3, "center_distance_mm": 100, "roller_pitch_radius_mm": 60, "roller_radius_mm": 12,
+    "indexing_angle_deg": 120, "curve": MS_SPEC, "samples": 121}
+#: the same turret with two plates: the checks list where the turret is not held both ways
+TWO_PLATE_EXAMPLE: dict[str, object] = {**PARALLEL_EXAMPLE, "plates": 2}
+
+MULTIPLE_RULE = "rollers_per_plate must be a multiple of stops (each index moves every layer onto itself)"
+
+
+class ParallelCamRequest(Spec):
+    """A parallel indexing cam: the turret (stops, rollers), the centre distance, the plates and the index law.
+
+    The rollers of one plate must not touch (2·Rp·sin(180°/m) > 2·Rr) and must stay clear of the cam axis
+    (center_distance_mm > roller_pitch_radius_mm + roller_radius_mm); each plate must leave room for the
+    turret's shaft (a 422 names the plate otherwise).
+    """
+
+    model_config = examples(PARALLEL_EXAMPLE, TWO_PLATE_EXAMPLE)
+    stops: Annotated[int, Field(ge=1, le=36), JSON_INTEGER] = Field(
+        description="stops per turret turn: the turret moves 360°/stops per index")
+    plates: Literal[2, 3] = Field(
+        3, description="plate cams on the input shaft, each with its own layer of rollers (staggered by the roller "
+                       "pitch / plates)")
+    rollers_per_plate: Annotated[int, Field(ge=1, le=72), JSON_INTEGER] | None = Field(
+        None, description="rollers in each plate's layer, a multiple of stops; default stops")
+    center_distance_mm: PositiveLength = Field(description="C: cam axis to turret axis [mm]")
+    roller_pitch_radius_mm: PositiveLength = Field(description="Rp: the rollers' centres' radius on the turret [mm]")
+    roller_radius_mm: PositiveLength = Field(description="Rr [mm]")
+    indexing_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1, le=359)] = Field(
+        description="θh: the cam angle of the index; the plates hold the turret for the rest of the turn [deg]")
+    curve: CurveSpec = Field(default_factory=lambda: NamedCurveSpec(name="MS"),
+                             description="the index law, as the indexers take it")
+    samples: Annotated[int, Field(ge=16, le=MAX_PARALLEL_SAMPLES), JSON_INTEGER] = Field(
+        181, description="cam angles evenly over the turn (0 ≤ θ < 360°) at which contacts are found; the plates' "
+                         "roller paths are drawn with 8 points per sample")
+
+    @model_validator(mode="after")
+    def _check(self) -> ParallelCamRequest:
+        m = self.rollers_per_plate or self.stops
+        if m % self.stops:
+            raise ValueError(f"{MULTIPLE_RULE}, got {m} rollers for {self.stops} stops")
+        # camcore's rules and sentences (a ValueError: 422)
+        check_parallel_geometry(self.stops, self.plates, m, self.center_distance_mm, self.roller_pitch_radius_mm,
+                                self.roller_radius_mm)
+        return self
+
+
+PARALLEL_EXAMPLES: dict[str, Example] = {
+    "three plates": {"summary": "4 stops, 3 plates of 4 rollers, index 120° (MS): held both ways throughout",
+                     "value": PARALLEL_EXAMPLE},
+    "two plates": {"summary": "the same with 2 plates: the checks list where the turret is not held both ways",
+                   "value": TWO_PLATE_EXAMPLE},
+}
+
+PlateChecksAnswer = answer_model(PlateChecks, "PlateChecksAnswer")
+ParallelChecksAnswer = answer_model(ParallelChecks, "ParallelChecksAnswer")
+ContactsAnswer = answer_model(Contacts, "ContactsAnswer")
+
+
+class PlateAnswer(DefaultsInDescriptions):
+    """One plate (camcore.cams.parallel.Plate): its contour in the cam's frame, closed, by polar angle; at each
+    vertex the roller that touches it there, when, that contact's pressure angle and the contour's radius of
+    curvature; every contact over the sampled turn; the plate's checks."""
+
+    plate: int
+    roller_start_angle_deg: list[float] = Field(description="arm angle of each roller of its layer at θ = 0 [deg]")
+    x_mm: list[float]
+    y_mm: list[float]
+    roller: list[int] = Field(description="the roller touching the contour at each vertex")
+    contact_cam_angle_deg: list[float] = Field(description="the cam angle at which it touches there")
+    pressure_angle_deg: list[float] = Field(description="of that contact, within ±90° [deg]")
+    radius_of_curvature_mm: list[float] = Field(description="of the contour: positive convex, negative concave [mm]")
+    contacts: ContactsAnswer  # type: ignore[valid-type]  # derived answer model (service.models)
+    checks: PlateChecksAnswer  # type: ignore[valid-type]
+
+
+class ParallelCamAnswer(DefaultsInDescriptions):
+    """Columns over the sampled turn (the turret's angle, whether it is held each way, the best drive and hold
+    pressure angles), the plates, the checks."""
+
+    cam_angle_deg: list[float]
+    turret_angle_deg: list[float] = Field(description="φ: the turret's turn, the index law over the index [deg]")
+    held_forward: list[bool] = Field(description="some contact drives the turret forward")
+    held_back: list[bool] = Field(description="some contact holds the turret back")
+    drive_pressure_angle_deg: list[float | None] = Field(
+        description="smallest |pressure angle| of the contacts that drive; null: none [deg]")
+    hold_pressure_angle_deg: list[float | None] = Field(
+        description="smallest |pressure angle| of the contacts that hold; null: none [deg]")
+    plates: list[PlateAnswer]
+    checks: ParallelChecksAnswer  # type: ignore[valid-type]
