@@ -7,6 +7,15 @@ from .barrel import BarrelCam, BarrelChecks, BarrelResult, barrel_profile, make_
 from .parallel import ParallelCam, ParallelChecks, ParallelResult, make_parallel_cam, sample_parallel
 
 __all__: list[str] = [
-    "BarrelCam", "BarrelChecks", "BarrelResult", "barrel_profile", "make_barrel_cam", "sample_barrel",
-    "ParallelCam", "ParallelChecks", "ParallelResult", "make_parallel_cam", "sample_parallel",
+    "BarrelCam",
+    "BarrelChecks",
+    "BarrelResult",
+    "ParallelCam",
+    "ParallelChecks",
+    "ParallelResult",
+    "barrel_profile",
+    "make_barrel_cam",
+    "make_parallel_cam",
+    "sample_barrel",
+    "sample_parallel",
 ]

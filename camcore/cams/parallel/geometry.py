@@ -61,7 +61,6 @@ from ...errors import GeometryError, InvalidParameterError
 from ...indexer import Indexer
 from ...profile.followers import Follower, RollerOscillating
 
-
 #: the smallest roller and pitch radius, as a share of the centre distance (the plates are drawn
 #: with 8 path points per sample: a roller a thousandth of the cam's size is below that)
 SMALLEST_SHARE = 1e-3
