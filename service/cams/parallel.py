@@ -98,6 +98,6 @@ def register(router: APIRouter) -> None:
                          response_model=ParallelCamAnswer, responses={**ERRORS, 200: CSV},
                          route_class_override=OrjsonRoute, summary="Compute Parallel Indexing Cam")
     router.add_api_route("/parallel.csv", compute_parallel_cam_csv, methods=["POST"],
-                         operation_id="computeParallelIndexingCamCsv", response_class=Response,
+                         operation_id="computeParallelCamCsv", response_class=Response,
                          responses={**ERRORS, 200: CSV_FILE}, route_class_override=OrjsonRoute,
-                         summary="Compute Parallel Indexing Cam Csv")
+                         summary="Compute Parallel Cam Csv")
