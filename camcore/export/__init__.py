@@ -3,7 +3,8 @@
 * :data:`FORMATS`: the contour as points (CSV, X Y Z text, DXF), :mod:`.contour`;
 * :data:`SOLID_FORMATS`: the plate cam as a solid (STEP, STL) from the OpenCASCADE kernel, :mod:`.solid`;
 * :data:`TOOLPATH_FORMATS`: the cutter-centre path (G-code, DXF of lines and arcs), :mod:`.toolpath`;
-* :data:`MOTION_FORMATS`: a motion program as a servo drive's cam table (CSV), :mod:`.cam_table`.
+* :data:`MOTION_FORMATS`: a motion program as a servo drive's cam table (CSV), :mod:`.cam_table`;
+* :func:`mesh_stl`: a triangle mesh camcore sampled itself (a roller-gear cam's rib) as STL, :mod:`.mesh`.
 
 Each entry is a :class:`FileFormat` (name, writer, media type, file name, description, cost);
 the service reads its ``?format=`` values, answer headers and OpenAPI media types from these
@@ -12,6 +13,7 @@ registries, so a new format is one entry.
 
 from .cam_table import MOTION_FORMATS, CamTable, cam_table_csv
 from .contour import FORMATS, Contour, contour_csv, contour_dxf, contour_xyz
+from .mesh import mesh_stl
 from .registry import FileFormat
 from .solid import SOLID_FORMATS, SolidCam, solid_step, solid_stl
 from .toolpath import TOOLPATH_FORMATS, ToolpathFile, toolpath_dxf, toolpath_gcode
@@ -22,5 +24,5 @@ ContourFormat = FileFormat
 __all__ = [
     "FORMATS", "MOTION_FORMATS", "SOLID_FORMATS", "TOOLPATH_FORMATS", "CamTable", "Contour", "ContourFormat",
     "FileFormat", "SolidCam", "ToolpathFile", "cam_table_csv", "contour_csv", "contour_dxf", "contour_xyz",
-    "solid_step", "solid_stl", "toolpath_dxf", "toolpath_gcode",
+    "mesh_stl", "solid_step", "solid_stl", "toolpath_dxf", "toolpath_gcode",
 ]

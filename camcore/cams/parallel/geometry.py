@@ -60,6 +60,7 @@ from ...curves.curve import Curve
 from ...errors import GeometryError, InvalidParameterError
 from ...indexer import Indexer
 from ...profile.followers import Follower, RollerOscillating
+from ..turret import turret_motion
 
 #: the smallest roller and pitch radius, as a share of the centre distance (the plates are drawn
 #: with 8 path points per sample: a roller a thousandth of the cam's size is below that)
@@ -95,13 +96,7 @@ class ParallelCam:
 
     def turret(self, theta: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """φ, dφ/dθ, d²φ/dθ² at any cam angles (turn k adds k·h) [rad, -, 1/rad]."""
-        theta = np.asarray(theta, dtype=np.float64)
-        turns = np.floor(theta / (2 * math.pi))
-        within = np.degrees(theta - turns * 2 * math.pi)
-        table = self.indexer.motion_at(np.clip(within, 0.0, 360.0).reshape(-1))
-        shape = theta.shape
-        phi = np.radians(table.output_angle_deg).reshape(shape) + turns * self.index_rad
-        return phi, table.dout_din.reshape(shape), table.d2out_din2_per_rad.reshape(shape)
+        return turret_motion(self.indexer, theta)
 
     def centres(self, alpha0: FloatArray | float, theta: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Roller centres in the cam's frame: α₀ broadcast against θ [mm]."""
