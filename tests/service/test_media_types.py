@@ -19,6 +19,7 @@ from service.app import create_app
 from service.indexers.specs import INDEXER_EXAMPLE
 from service.cams.barrel_specs import BARREL_EXAMPLE
 from service.cams.parallel_specs import PARALLEL_EXAMPLE
+from service.cams.roller_gear_specs import ROLLER_GEAR_EXAMPLE
 from service.motions.specs import FEED_CYCLE
 from service.profiles.dynamics_specs import DYNAMICS_EXAMPLE
 from service.profiles.specs import KNIFE_EDGE_PROFILE_EXAMPLE
@@ -45,6 +46,7 @@ SOLID = {**PROFILE, "solid": {"thickness_mm": 10, "bore_diameter_mm": 10}}
 TOOLPATH = {"profile": KNIFE_EDGE_PROFILE_EXAMPLE, "tool_radius_mm": 5, "tolerance_mm": 0.01}
 BARREL = {**BARREL_EXAMPLE, "samples": 13}
 PARALLEL = {**PARALLEL_EXAMPLE, "samples": 31}
+ROLLER_GEAR = {**ROLLER_GEAR_EXAMPLE, "samples": 13, "length_samples": 2}
 
 # (method, path template, url, body, headers, media type answered)
 CASES: list[tuple[str, str, str, dict[str, Any] | None, dict[str, str], str]] = [
@@ -125,6 +127,12 @@ CASES: list[tuple[str, str, str, dict[str, Any] | None, dict[str, str], str]] = 
     ("POST", "/v1/cams/parallel", "/v1/cams/parallel?format=csv", PARALLEL, {}, "text/csv"),
     ("POST", "/v1/cams/parallel", "/v1/cams/parallel", PARALLEL, CSV_ACCEPT, "text/csv"),
     ("POST", "/v1/cams/parallel.csv", "/v1/cams/parallel.csv", PARALLEL, {}, "text/csv"),
+    ("POST", "/v1/cams/roller-gear", "/v1/cams/roller-gear", ROLLER_GEAR, {}, "application/json"),
+    ("POST", "/v1/cams/roller-gear", "/v1/cams/roller-gear?format=csv", ROLLER_GEAR, {}, "text/csv"),
+    ("POST", "/v1/cams/roller-gear", "/v1/cams/roller-gear", ROLLER_GEAR, CSV_ACCEPT, "text/csv"),
+    ("POST", "/v1/cams/roller-gear", "/v1/cams/roller-gear?format=stl", ROLLER_GEAR, {}, "model/stl"),
+    ("POST", "/v1/cams/roller-gear.csv", "/v1/cams/roller-gear.csv", ROLLER_GEAR, {}, "text/csv"),
+    ("POST", "/v1/cams/roller-gear.stl", "/v1/cams/roller-gear.stl", ROLLER_GEAR, {}, "model/stl"),
 ]
 if "/v1/curves/{name}/value" in DOC["paths"]:  # the spreadsheet cell (API contract: one bare number)
     CASES.append(("GET", "/v1/curves/{name}/value", "/v1/curves/MS/value?t=0.3&quantity=s", None, {}, "text/plain"))
@@ -170,8 +178,8 @@ def test_file_twins_answer_only_their_file() -> None:
     twins = {path: ops["post"] if "post" in ops else ops["get"] for path, ops in DOC["paths"].items()
              if path.endswith((".csv", ".dxf", ".xyz", ".step", ".stl", ".nc"))}
     # the 12 table and contour files, the 2 vibration tables, the cam table, the toolpath's G-code
-    # and DXF, the two solids, the barrel and parallel cams' tables
-    assert len(twins) == 21, sorted(twins)
+    # and DXF, the two solids, the barrel and parallel cams' tables, the roller-gear cam's table and rib
+    assert len(twins) == 23, sorted(twins)
     for path, op in twins.items():
         content = op["responses"]["200"]["content"]
         assert len(content) == 1, (path, list(content))

@@ -21,6 +21,7 @@ from pydantic import BaseModel
 from service.app import create_app
 from service.cams import barrel_specs as barrel_schemas
 from service.cams import parallel_specs as parallel_schemas
+from service.cams import roller_gear_specs as roller_gear_schemas
 from service.curves import specs as schemas
 from service.curves import sweep as curve_sweep_schemas
 from service.indexers import specs as indexer_schemas
@@ -133,8 +134,8 @@ def request_side_schemas() -> set[str]:
 
 def model_classes() -> dict[str, type[BaseModel]]:
     out: dict[str, type[BaseModel]] = {}
-    for module in (barrel_schemas, parallel_schemas, schemas, curve_sweep_schemas, dynamics_schemas, indexer_schemas, sweep_schemas,
-                   motion_schemas, profile_schemas,
+    for module in (barrel_schemas, parallel_schemas, roller_gear_schemas, schemas, curve_sweep_schemas,
+                   dynamics_schemas, indexer_schemas, sweep_schemas, motion_schemas, profile_schemas,
                    vibration_schemas, solid_schemas, toolpath_schemas):
         for value in vars(module).values():
             if isinstance(value, type) and issubclass(value, BaseModel):

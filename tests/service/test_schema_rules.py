@@ -602,6 +602,10 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     # distance compared (sums, a sine of the roller pitch, a share); the plates' extent, known once drawn
     "must be a multiple of stops", "The rollers reach the cam axis", "The rollers of a plate collide",
     "below the plates' resolution", "reaches the turret's axis", "sweep over the cam axis",
+    # roller-gear cams: the rollers' length against their pitch radius, a sine of the roller pitch at the
+    # inner end against the roller radius, sums against the centre distance, a share of it
+    "The rollers leave no room for the rib", "The rollers cross the turret's axis",
+    "must each be at least 0.1% of center_distance_mm",
     # a result beyond the range of float64
     "produced a non-finite number",
 )))

@@ -52,9 +52,16 @@ References
 """
 
 from .compute import RibChecks, RibFlank, RollerGearResult, rib_triangles, sample_roller_gear
-from .geometry import FLANKS, RollerGearCam, check_roller_gear_geometry, flank_state, make_roller_gear_cam
+from .geometry import (
+    FLANKS,
+    RollerGearCam,
+    check_roller_gear_geometry,
+    flank_state,
+    make_roller_gear_cam,
+    pressure_angle_rad,
+)
 
 __all__ = [
     "FLANKS", "RibChecks", "RibFlank", "RollerGearCam", "RollerGearResult", "check_roller_gear_geometry",
-    "flank_state", "make_roller_gear_cam", "rib_triangles", "sample_roller_gear",
+    "flank_state", "make_roller_gear_cam", "pressure_angle_rad", "rib_triangles", "sample_roller_gear",
 ]

@@ -9,13 +9,16 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..._checks import count
-from ..._maxima import golden_max
+from ..._maxima import local_grid_max
 from ...results import doc
-from .geometry import FLANKS, Flank, FloatArray, RollerGearCam, flank_state
+from ..turret import turret_motion
+from .geometry import FLANKS, FloatArray, RollerGearCam, flank_state, pressure_angle_rad
 
-#: cam angles over the index at which the largest pressure angle is bracketed before the golden
-#: search: |β| follows |φ'|, which a catalog law has one hump of, so one grid step brackets it
+#: cam angles over the index at which the largest pressure angle is bracketed before local grids
+#: refine it: |β| follows |φ'|, which a catalog law has one hump of, so one grid step brackets it
 PRESSURE_GRID = 1025
+#: the refined maximum's bracket, at most [rad]
+REFINED_WIDTH = 1e-12
 #: sampled cam angles listed in the checks where a flank folds, at most
 LISTED_ANGLES = 10
 
@@ -70,17 +73,18 @@ class RollerGearResult:
 def _largest_pressure(cam: RollerGearCam, radius_mm: float) -> tuple[float, float]:
     """The largest |β| at one radius over the index, both flanks: (cam angle, angle) [rad]."""
     index = math.radians(cam.indexer.indexing_angle_deg)
-    grid = np.linspace(0.0, index, PRESSURE_GRID)
-    best = (0.0, -1.0)
-    for flank in FLANKS:
-        def size(theta: FloatArray, flank: Flank = flank) -> FloatArray:
-            return np.abs(flank_state(cam, flank, theta, [radius_mm]).pressure_angle_rad[:, 0])
+    behind = np.array([0.0, cam.index_rad])[:, None]  # forward, back: α = φ − this
 
-        k = int(np.argmax(size(grid)))
-        at, value = golden_max(size, grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)])
-        if value[0] > best[1]:
-            best = (float(at[0]), float(value[0]))
-    return best
+    def size(theta: FloatArray) -> FloatArray:  # one row per flank
+        phi, d1, _ = turret_motion(cam.indexer, theta)
+        return np.abs(pressure_angle_rad(cam, phi - behind, d1, radius_mm))
+
+    grid = np.linspace(0.0, index, PRESSURE_GRID)
+    k = np.argmax(size(np.broadcast_to(grid, (2, grid.size))), axis=1)
+    at, value = local_grid_max(size, grid[np.maximum(k - 1, 0)], grid[np.minimum(k + 1, grid.size - 1)],
+                               width=REFINED_WIDTH)
+    best = int(np.argmax(value))
+    return float(at[best]), float(value[best])
 
 
 def sample_roller_gear(cam: RollerGearCam, samples: int = 361, length_samples: int = 5) -> RollerGearResult:
@@ -114,8 +118,9 @@ def sample_roller_gear(cam: RollerGearCam, samples: int = 361, length_samples: i
     positions = np.linspace(r_in, r_out, k)
     pitch = [cam.roller_pitch_radius_mm]
     states = {f: flank_state(cam, f, theta, positions) for f in FLANKS}
-    flanks = {f: RibFlank(f, s.q[..., 0], s.q[..., 1], s.q[..., 2], np.degrees(s.pressure_angle_rad),
-                          s.regularity > 0) for f, s in states.items()}
+    flanks = {f: RibFlank(f, np.ascontiguousarray(s.q[..., 0]), np.ascontiguousarray(s.q[..., 1]),
+                          np.ascontiguousarray(s.q[..., 2]), np.degrees(s.pressure_angle_rad), s.regularity > 0)
+              for f, s in states.items()}
     folded = np.flatnonzero(~(flanks["forward"].regular.all(axis=1) & flanks["back"].regular.all(axis=1)))
     at, largest = _largest_pressure(cam, cam.roller_pitch_radius_mm)
     along = _largest_pressure(cam, r_out)[1]

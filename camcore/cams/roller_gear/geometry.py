@@ -172,6 +172,33 @@ def make_roller_gear_cam(stops: int, center_distance_mm: float, roller_pitch_rad
                          float(roller_length_mm), indexer)
 
 
+def pressure_angle_rad(cam: RollerGearCam, alpha_rad: FloatArray, dalpha: FloatArray, r_mm: FloatArray | float
+                       ) -> FloatArray:
+    """β = atan(α'·r / (C − r·cos α)): the contact's angle off the roller's direction of motion (module notes).
+
+    Parameters
+    ----------
+    cam : RollerGearCam
+        The cam.
+    alpha_rad : ndarray
+        α, the roller's turret angle [rad].
+    dalpha : ndarray
+        dα/dθ = φ' [-].
+    r_mm : ndarray or float
+        Distance from the turret axis along the roller [mm].
+
+    Returns
+    -------
+    ndarray
+        β [rad], broadcast over the arguments.
+
+    References
+    ----------
+    Litvin and Fuentes (2004), ch. 6 (n·v_rel = 0); the derivation in the module notes.
+    """
+    return np.arctan(dalpha * r_mm / (cam.center_distance_mm - r_mm * np.cos(alpha_rad)))
+
+
 def _vec(x: FloatArray, y: FloatArray | float, z: FloatArray) -> FloatArray:
     x = np.asarray(x, dtype=np.float64)
     return np.stack(np.broadcast_arrays(x, np.asarray(y, dtype=np.float64), np.asarray(z, dtype=np.float64)), axis=-1)
@@ -208,7 +235,7 @@ def flank_state(cam: RollerGearCam, flank: Flank, cam_angle_rad: ArrayLike, posi
     sigma, c_dist, rr = SIDE[flank], cam.center_distance_mm, cam.roller_radius_mm
     ca, sa = np.cos(alpha), np.sin(alpha)
     den = c_dist - r * ca  # > 0: the rollers stop short of the cam axis
-    beta = np.arctan(d1 * r / den)
+    beta = pressure_angle_rad(cam, alpha, d1, r)
     cb, sb = np.cos(beta), np.sin(beta)
     u, w = _vec(-ca, 0.0, sa), _vec(sa, 0.0, ca)
     y_hat = np.array([0.0, 1.0, 0.0])

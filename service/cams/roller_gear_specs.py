@@ -1,0 +1,103 @@
+"""Specs and answers of ``POST /v1/cams/roller-gear`` (docs/api.md: roller-gear cams)."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi.openapi.models import Example
+from pydantic import BaseModel, Field, model_validator
+
+from camcore.cams.roller_gear import RibChecks, check_roller_gear_geometry
+from camcore.cams.roller_gear.geometry import MIN_STOPS
+from service.curves.specs import MS_SPEC, CurveSpec, NamedCurveSpec
+from service.models import answer_model
+from service.profiles.specs import PositiveLength
+from service.specs import JSON_INTEGER, DefaultsInDescriptions, Spec, examples
+
+#: sampled cam angles over the rib's turn, at most
+MAX_ROLLER_GEAR_SAMPLES = 3601
+#: points along the roller per flank and cam angle, at most
+MAX_ROLLER_GEAR_LENGTH_SAMPLES = 41
+
+#: eight stops, index over 120° (MS), rollers 20 mm across and 20 mm long on a 60 mm pitch radius
+ROLLER_GEAR_EXAMPLE: dict[str, object] = {
+    "stops": 8, "center_distance_mm": 100, "roller_pitch_radius_mm": 60, "roller_radius_mm": 10,
+    "roller_length_mm": 20, "indexing_angle_deg": 120, "curve": MS_SPEC, "samples": 121}
+#: the same over a 30° index: the flanks fold (undercut), reported in the checks
+UNDERCUT_EXAMPLE: dict[str, object] = {**ROLLER_GEAR_EXAMPLE, "indexing_angle_deg": 30}
+
+
+class RollerGearCamRequest(Spec):
+    """A roller-gear (globoidal) cam: the turret (stops, one roller per stop), the rollers, the centre distance
+    and the index law.
+
+    The rollers stand radially on the turret's rim from roller_pitch_radius_mm − roller_length_mm/2 to
+    roller_pitch_radius_mm + roller_length_mm/2; neighbours must leave room for the rib at their inner ends
+    (2·r_in·sin(180°/stops) > 2·roller_radius_mm) and their outer ends must stop short of the cam axis
+    (center_distance_mm > roller_pitch_radius_mm + roller_length_mm/2).
+    """
+
+    model_config = examples(ROLLER_GEAR_EXAMPLE, UNDERCUT_EXAMPLE)
+    stops: Annotated[int, Field(ge=MIN_STOPS, le=72), JSON_INTEGER] = Field(
+        description="stops per turret turn, one roller per stop: the turret moves 360°/stops per index; at least 5 "
+                    "(the rollers making the rib swing through ±360°/stops about the line of centres)")
+    center_distance_mm: PositiveLength = Field(description="C: cam axis to turret axis (square to each other) [mm]")
+    roller_pitch_radius_mm: PositiveLength = Field(
+        description="Rp: the rollers' mid-length distance from the turret axis [mm]")
+    roller_radius_mm: PositiveLength = Field(description="Rr [mm]")
+    roller_length_mm: PositiveLength = Field(description="ℓ: the roller's working length along its axis [mm]")
+    indexing_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1, le=359)] = Field(
+        description="θh: the cam angle of the index; the rib holds the turret for the rest of the turn [deg]")
+    curve: CurveSpec = Field(default_factory=lambda: NamedCurveSpec(name="MS"),
+                             description="the index law, as the indexers take it")
+    samples: Annotated[int, Field(ge=2, le=MAX_ROLLER_GEAR_SAMPLES), JSON_INTEGER] = Field(
+        361, description="cam angles evenly over the rib's turn, 0–360° with both ends (the rib's two ends)")
+    length_samples: Annotated[int, Field(ge=2, le=MAX_ROLLER_GEAR_LENGTH_SAMPLES), JSON_INTEGER] = Field(
+        5, description="flank points per cam angle, evenly along the roller from its inner to its outer end")
+
+    @model_validator(mode="after")
+    def _check(self) -> RollerGearCamRequest:
+        # camcore's rules and sentences (a ValueError: 422)
+        check_roller_gear_geometry(self.stops, self.center_distance_mm, self.roller_pitch_radius_mm,
+                                   self.roller_radius_mm, self.roller_length_mm)
+        return self
+
+
+ROLLER_GEAR_EXAMPLES: dict[str, Example] = {
+    "eight stops": {"summary": "8 stops, index over 120° (MS): largest pressure angle ≈ 42° at the pitch radius",
+                    "value": ROLLER_GEAR_EXAMPLE},
+    "undercut": {"summary": "the same over a 30° index: the flanks fold, the checks say where",
+                 "value": UNDERCUT_EXAMPLE},
+}
+
+RibChecksAnswer = answer_model(RibChecks, "RibChecksAnswer")
+
+
+class RibFlankAnswer(BaseModel):
+    """One flank of the rib in the cam's frame (camcore.cams.roller_gear.RibFlank): x_mm, y_mm, z_mm and
+    pressure_angle_deg have one row per cam angle and one column per roller_position_mm."""
+
+    x_mm: list[list[float]]
+    y_mm: list[list[float]]
+    z_mm: list[list[float]] = Field(description="along the cam axis")
+    pressure_angle_deg: list[list[float]] = Field(description="atan(φ'·r / (C − r·cos α)) at each point [deg]")
+    regular: list[list[bool]] = Field(description="false where the flank folds (undercut)")
+
+
+class RibFlanks(BaseModel):
+    forward: RibFlankAnswer = Field(description="faces the roller ahead of the rib: pushes the turret on")
+    back: RibFlankAnswer = Field(description="faces the roller behind the rib: holds the turret back")
+
+
+class RollerGearCamAnswer(DefaultsInDescriptions):
+    """Columns over the rib's turn (the turret's angle, the pressure angles at the rollers' pitch radius), both
+    flanks as point grids in the cam's frame, the checks."""
+
+    cam_angle_deg: list[float] = Field(description="0–360°, both ends")
+    turret_angle_deg: list[float] = Field(description="φ: the turret's turn, the index law over the index [deg]")
+    pressure_angle_deg: list[float] = Field(description="forward flank, at the rollers' pitch radius [deg]")
+    back_pressure_angle_deg: list[float] = Field(description="back flank, at the rollers' pitch radius [deg]")
+    roller_position_mm: list[float] = Field(
+        description="distance from the turret axis along the roller of the flank grids' columns [mm]")
+    flanks: RibFlanks
+    checks: RibChecksAnswer  # type: ignore[valid-type]  # derived answer model (service.models)
