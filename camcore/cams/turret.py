@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from ..curves.base import FloatArray
+from ..curves.curve import Curve
 from ..errors import InvalidParameterError
 from ..indexer import Indexer
 
@@ -49,3 +50,37 @@ def turret_motion(indexer: Indexer, cam_angle_rad: FloatArray) -> tuple[FloatArr
     shape = theta.shape
     phi = np.radians(table.output_angle_deg).reshape(shape) + turns * (2 * math.pi / indexer.stops)
     return phi, table.dout_din.reshape(shape), table.d2out_din2_per_rad.reshape(shape)
+
+
+def index_law(stops: int, indexing_angle_deg: float, curve: Curve | str) -> Indexer:
+    """The turret's index law: h = 360°/stops over θh of cam angle, one index per cam turn.
+
+    Parameters
+    ----------
+    stops : int
+        Stops per turret turn [-].
+    indexing_angle_deg : float
+        θh, 1 ≤ θh ≤ 359 (the cam holds the turret for the rest of the turn) [deg].
+    curve : Curve or str
+        The law (a curve or a catalog name) [-].
+
+    Returns
+    -------
+    Indexer
+        At 1 rpm (the cams' geometry needs no speed).
+
+    Raises
+    ------
+    InvalidParameterError
+        θh outside 1 … 359.
+
+    References
+    ----------
+    INDEXMAN technical guide, sections 2-1 to 2-4 (n, θh), section 5 (the index law).
+    """
+    if not 1 <= indexing_angle_deg <= 359:
+        raise InvalidParameterError(
+            f"indexing_angle_deg must lie in 1 … 359 (the cam holds the turret in the dwell), got "
+            f"{indexing_angle_deg!r}.")
+    return Indexer(indexing_angle_deg=indexing_angle_deg, stops=stops, speed_rpm=1.0,
+                   curve=curve)  # type: ignore[arg-type]  # a name becomes the catalog curve

@@ -60,7 +60,7 @@ from ...curves.curve import Curve
 from ...errors import GeometryError, InvalidParameterError
 from ...indexer import Indexer
 from ...profile.followers import Follower, RollerOscillating
-from ..turret import turret_motion
+from ..turret import index_law, turret_motion
 
 #: the smallest roller and pitch radius, as a share of the centre distance (the plates are drawn
 #: with 8 path points per sample: a roller a thousandth of the cam's size is below that)
@@ -214,11 +214,6 @@ def make_parallel_cam(stops: int, center_distance_mm: float, roller_pitch_radius
     """
     m = stops if rollers_per_plate is None else rollers_per_plate
     check_parallel_geometry(stops, plates, m, center_distance_mm, roller_pitch_radius_mm, roller_radius_mm)
-    if not 1 <= indexing_angle_deg <= 359:
-        raise InvalidParameterError(
-            f"indexing_angle_deg must lie in 1 … 359 (the plates hold the turret in the dwell), got "
-            f"{indexing_angle_deg!r}.")
-    indexer = Indexer(indexing_angle_deg=indexing_angle_deg, stops=stops, speed_rpm=1.0,
-                      curve=curve)  # type: ignore[arg-type]  # a name becomes the catalog curve
+    indexer = index_law(stops, indexing_angle_deg, curve)
     return ParallelCam(stops, plates, m, float(center_distance_mm), float(roller_pitch_radius_mm),
                        float(roller_radius_mm), indexer)

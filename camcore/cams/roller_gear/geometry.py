@@ -21,7 +21,7 @@ from ...curves.base import FloatArray
 from ...curves.curve import Curve
 from ...errors import GeometryError, InvalidParameterError
 from ...indexer import Indexer
-from ..turret import turret_motion
+from ..turret import index_law, turret_motion
 
 Flank = Literal["forward", "back"]
 #: the rib's two flanks: facing the roller ahead of it, and the roller behind
@@ -162,12 +162,7 @@ def make_roller_gear_cam(stops: int, center_distance_mm: float, roller_pitch_rad
     INDEXMAN technical guide, sections 2-1 to 2-4 (n, θh), section 5 (the index law).
     """
     check_roller_gear_geometry(stops, center_distance_mm, roller_pitch_radius_mm, roller_radius_mm, roller_length_mm)
-    if not 1 <= indexing_angle_deg <= 359:
-        raise InvalidParameterError(
-            f"indexing_angle_deg must lie in 1 … 359 (the rib holds the turret in the dwell), got "
-            f"{indexing_angle_deg!r}.")
-    indexer = Indexer(indexing_angle_deg=indexing_angle_deg, stops=stops, speed_rpm=1.0,
-                      curve=curve)  # type: ignore[arg-type]  # a name becomes the catalog curve
+    indexer = index_law(stops, indexing_angle_deg, curve)
     return RollerGearCam(stops, float(center_distance_mm), float(roller_pitch_radius_mm), float(roller_radius_mm),
                          float(roller_length_mm), indexer)
 
