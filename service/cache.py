@@ -14,33 +14,46 @@ import numpy as np
 V = TypeVar("V")
 
 
+#: leaves of the object graph: their own size, nothing reachable (exact types: a subclass may hold more)
+_LEAVES = frozenset({str, bytes, int, float, complex, bool, type(None)})
+
+
 def held_bytes(value: Any) -> int:
     """Bytes an object holds: numpy arrays' buffers and every Python object reachable
     through attributes, containers and cached properties, each counted once."""
     seen: set[int] = set()
     total = 0
     stack = [value]
+    size_of = sys.getsizeof
     while stack:
         item = stack.pop()
-        if id(item) in seen or isinstance(item, type):
+        key = id(item)
+        if key in seen:
             continue
-        seen.add(id(item))
+        kind = type(item)
+        if kind in _LEAVES:  # most of a curve: its coefficients as Python floats
+            seen.add(key)
+            total += size_of(item)
+            continue
+        if isinstance(item, type):
+            continue
+        seen.add(key)
         if isinstance(item, np.ndarray):
-            total += item.nbytes + sys.getsizeof(item) if item.base is None else sys.getsizeof(item)
+            total += item.nbytes + size_of(item) if item.base is None else size_of(item)
             if item.base is not None:
                 stack.append(item.base)
             continue
-        total += sys.getsizeof(item)
+        total += size_of(item)
         if isinstance(item, dict):
             stack.extend(item.keys())
             stack.extend(item.values())
         elif isinstance(item, (list, tuple, set, frozenset)):
             stack.extend(item)
-        elif not isinstance(item, (str, bytes, int, float, complex, bool)) and item is not None:
+        elif not isinstance(item, (str, bytes, int, float, complex, bool)):
             attributes = getattr(item, "__dict__", None)
             if attributes is not None:
                 stack.append(attributes)
-            for name in getattr(type(item), "__slots__", ()):
+            for name in getattr(kind, "__slots__", ()):
                 if hasattr(item, name):
                     stack.append(getattr(item, name))
     return total
