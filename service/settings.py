@@ -64,7 +64,7 @@ class Settings(BaseSettings):
     max_queue_wait_s: float = Field(0.5, gt=0, le=3600,
                                     description="a computation that would wait (or has waited) longer for a slot: 503")
     max_in_flight: int = Field(64, ge=1, le=100_000, description="requests in progress per worker; more: 503")
-    inline_work_s: float = Field(0.002, ge=0, le=0.05,
+    inline_work_s: float = Field(0.003, ge=0, le=0.05,
                                  description="a computation estimated at most this long runs on the event loop "
                                              "(no thread, slot or deadline: it costs less than they do)")
 

@@ -47,10 +47,18 @@ class SizeLimit:
 class LawCost:
     """What one curve of a kind costs, in seconds on the reference machine (camcore.work):
     ``build_s`` to build it with its characteristic values and its inverse's start tables,
-    ``sample_s`` per time at which S, V, A, J are evaluated (or S inverted)."""
+    ``sample_s`` per time at which S, V, A, J are evaluated (or S inverted), and
+    ``characteristics_s`` to build it with its characteristic values only (None: ``build_s``;
+    a closed-form law's inverse tables are most of its ``build_s``)."""
 
     build_s: float
     sample_s: float
+    characteristics_s: float | None = None
+
+    @property
+    def values_s(self) -> float:
+        """Building the curve and finding its characteristic values, no inverse tables [s]."""
+        return self.build_s if self.characteristics_s is None else self.characteristics_s
 
 
 @dataclass(frozen=True)
@@ -71,8 +79,14 @@ class CurveKind:
 # 200 000 times in ≤ 5 ms; a Bezier curve of degree d builds in 16-94 ms (d = 3-30) and
 # costs 0.24-1.8 µs per time (a Newton solve for its parameter; 0.2 + 0.002·d² µs fits
 # within 12 %); a points curve of n points builds in 11 ms + 7.5 µs·n.
-#: a law in closed form (named, Makino, universal, polynomial; a dwell costs no more)
-CLOSED_FORM_COST = LawCost(build_s=0.03, sample_s=5e-8)
+# Built with their characteristic values only (no inverse tables), the slowest measured, best
+# of 3 on a machine running a test suite beside: a Makino curve 1.6 ms (curve 4 from a target Vm,
+# 34), a universal curve 1.64 ms (300 random break points, with and without end velocities), a
+# polynomial from its end conditions 2.3 ms; times 1.5.
+#: a law in closed form (named, Makino, universal; a dwell costs no more)
+CLOSED_FORM_COST = LawCost(build_s=0.03, sample_s=5e-8, characteristics_s=1.5 * 1.65e-3)
+#: a polynomial law (its coefficients solved from the end conditions)
+POLYNOMIAL_COST = LawCost(build_s=0.03, sample_s=5e-8, characteristics_s=1.5 * 2.4e-3)
 
 
 def _bezier_cost(p: Mapping[str, Any]) -> LawCost:
@@ -103,7 +117,7 @@ CURVE_KINDS: dict[str, CurveKind] = {
         CurveKind("universal", "Makino's universal cam curve: break points and end conditions",
                   universal_curve, ("t", "m", "v0", "v7", "s0", "s7"), lambda p: CLOSED_FORM_COST),
         CurveKind("polynomial", "a polynomial law by name, or the least-degree one meeting end conditions",
-                  _polynomial, ("name", "start", "end"), lambda p: CLOSED_FORM_COST),
+                  _polynomial, ("name", "start", "end"), lambda p: POLYNOMIAL_COST),
         CurveKind("bezier", "lift over drive angle as a Bezier curve in the (θ, h) plane", BezierCurve,
                   ("control_points",), _bezier_cost,
                   SizeLimit("Bezier degree", "max_bezier_degree", "max_degree", "control_points", lambda p: len(p["control_points"]) - 1)),

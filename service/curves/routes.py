@@ -81,7 +81,7 @@ async def characteristics(body: Annotated[CharacteristicsRequest, Body(openapi_e
                           request: Request, service: Service, gate: Gate) -> Response:
     """Vm, Am±, Jm±, Qm± (and raw A·V extremes) with the T where each occurs."""
     quick = service.is_built(body.curve)
-    work = service.curve_work(body.curve)
+    work = service.characteristics_work(body.curve)
     return JSONBody(await compute(request, gate, quick, work, service.characteristics, body.curve))
 
 

@@ -59,6 +59,13 @@ class CurveService:
     def curve_work(self, spec: CurveSpec, at: tuple[str | int, ...] = ("curve",)) -> WorkEstimate:
         return self.build_work(spec, self.law(spec, at), at)
 
+    def characteristics_work(self, spec: CurveSpec) -> WorkEstimate:
+        """The curve built with its characteristic values (no inverse tables), or nothing when cached."""
+        law = self.law(spec)
+        if self.curves.peek(spec.cache_key()) is not None:
+            return WorkEstimate((WorkTerm(("curve",), "the curve, already built", 0.0),))
+        return WorkEstimate((WorkTerm(("curve",), "building the curve and its characteristic values", law.values_s),))
+
     def build_work(self, spec: CurveSpec, law: LawCost, at: tuple[str | int, ...], inverse: bool = False
                    ) -> WorkEstimate:
         """Building the spec's curve: nothing when it is in the cache (with its inverse's start

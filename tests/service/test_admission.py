@@ -343,3 +343,38 @@ async def test_small_work_runs_on_the_event_loop_and_large_work_through_the_gate
             assert len(watched) == (0 if inline_s else 1)
             watched.clear()
     assert answers[0] == answers[1]
+
+
+async def test_a_new_closed_form_curve_finds_its_values_on_the_event_loop(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 21: the characteristic values of a new universal curve (built without its inverse tables,
+    estimated 2.5 ms) are found on the event loop, with the answer the gate's thread gives; a polynomial
+    solved from its end conditions (estimated 3.6 ms) and an inverse on a new curve (its start tables,
+    30 ms) still go through the gate."""
+    watched: list[int] = []
+    real = WorkGate._run_watched
+
+    async def counted(self: WorkGate, *args: Any) -> Any:
+        watched.append(1)
+        return await real(self, *args)
+
+    monkeypatch.setattr(WorkGate, "_run_watched", counted)
+    universal = {"type": "universal", "t": [0, 0.1, 0.1, 0.5, 0.5, 0.875, 0.875, 1]}
+    answers = []
+    for inline_s in (Settings().inline_work_s, 0.0):
+        app = create_app(Settings(inline_work_s=inline_s))
+        async with httpx.AsyncClient(transport=httpx.ASGITransport(app=app), base_url="http://t") as client:
+            r = await client.post("/v1/curves/characteristics", json={"curve": universal})
+            assert r.status_code == 200
+            answers.append(r.json())
+            assert len(watched) == (0 if inline_s else 1)
+            watched.clear()
+            if inline_s:
+                r = await client.post("/v1/curves/characteristics", json={"curve": {
+                    "type": "polynomial", "start": {"s": 0, "v": 0, "a": 0}, "end": {"s": 1, "v": 0, "a": 0}}})
+                assert r.status_code == 200 and len(watched) == 1
+                watched.clear()
+                r = await client.post("/v1/curves/inverse", json={"curve": {**universal, "t": [
+                    0, 0.12, 0.12, 0.5, 0.5, 0.875, 0.875, 1]}, "s": [0.5]})
+                assert r.status_code == 200 and len(watched) == 1
+                watched.clear()
+    assert answers[0] == answers[1]
