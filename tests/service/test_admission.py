@@ -313,11 +313,8 @@ async def test_every_answer_says_how_long_the_server_took(app_client: tuple[Any,
     assert float(slow.headers["server-timing"].split("=")[1]) >= 200  # the 0.2 s of work is in it
 
 
-async def test_small_work_runs_on_the_event_loop_and_large_work_through_the_gate(
-        monkeypatch: pytest.MonkeyPatch) -> None:
-    """Issue 21: a sizing on a cached curve (estimated 1.6 ms) is answered without the gate's
-    thread and slot; with CAMCORE_INLINE_WORK_S=0 the same request goes through them, with the
-    same answer."""
+def count_gate_runs(monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    """A list that grows by one each time a computation goes through the gate's thread and slot."""
     watched: list[int] = []
     real = WorkGate._run_watched
 
@@ -326,6 +323,15 @@ async def test_small_work_runs_on_the_event_loop_and_large_work_through_the_gate
         return await real(self, *args)
 
     monkeypatch.setattr(WorkGate, "_run_watched", counted)
+    return watched
+
+
+async def test_small_work_runs_on_the_event_loop_and_large_work_through_the_gate(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 21: a sizing on a cached curve (estimated 1.6 ms) is answered without the gate's
+    thread and slot; with CAMCORE_INLINE_WORK_S=0 the same request goes through them, with the
+    same answer."""
+    watched = count_gate_runs(monkeypatch)
     body = {"indexer": {"stops": 6, "indexing_angle_deg": 270, "speed_rpm": 60, "curve": MS},
             "load": {"parts": [{"shape": "disc", "mass_kg": 50, "diameter_mm": 600}]}}
     answers = []
@@ -350,14 +356,7 @@ async def test_a_new_closed_form_curve_finds_its_values_on_the_event_loop(monkey
     estimated 2.5 ms) are found on the event loop, with the answer the gate's thread gives; a polynomial
     solved from its end conditions (estimated 3.6 ms) and an inverse on a new curve (its start tables,
     30 ms) still go through the gate."""
-    watched: list[int] = []
-    real = WorkGate._run_watched
-
-    async def counted(self: WorkGate, *args: Any) -> Any:
-        watched.append(1)
-        return await real(self, *args)
-
-    monkeypatch.setattr(WorkGate, "_run_watched", counted)
+    watched = count_gate_runs(monkeypatch)
     universal = {"type": "universal", "t": [0, 0.1, 0.1, 0.5, 0.5, 0.875, 0.875, 1]}
     answers = []
     for inline_s in (Settings().inline_work_s, 0.0):
