@@ -132,8 +132,8 @@ def critical_points(curve: PiecewiseCurve, slopes: Callable[[list[FloatArray]], 
 
         def value_and_slope(t: FloatArray, lab: NDArray[np.intp]) -> tuple[FloatArray, FloatArray]:
             row, piece = np.divmod(lab, n)
-            d = curve.eval_pieces(t, piece, 4)
-            values, slopes_of = rows(t, piece), slope_derivatives(d)
+            d = curve.eval_pieces(t, piece, 4)  # once: the rows and their slopes both read it
+            values, slopes_of = np.atleast_2d(np.asarray(slopes(d), dtype=np.float64)), slope_derivatives(d)
             take = np.arange(t.size)
             slope_rows = np.vstack([np.broadcast_to(np.nan if r is None else r, t.shape) for r in slopes_of])
             return values[row, take], slope_rows[row, take]
