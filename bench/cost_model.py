@@ -31,6 +31,9 @@ import orjson
 
 from service.admission import WorkGate
 from service.app import create_app
+from service.cams.barrel_specs import BARREL_EXAMPLE
+from service.cams.parallel_specs import PARALLEL_EXAMPLE
+from service.cams.roller_gear_specs import ROLLER_GEAR_EXAMPLE
 from service.settings import Settings
 
 MS = {"type": "named", "name": "MS"}
@@ -134,6 +137,17 @@ CASES = [
     Case("motion cam table", "POST", "/v1/motions/cam-table.csv",
          lambda n: {"motion": {"segments": [{"span_deg": 180, "to": 10, "curve": MS}, {"span_deg": 180, "to": 0}]},
                     "samples": n}, "samples", 400_000),
+    # cams: the barrel's and the roller-gear's grids of samples × 5 and × 41 points; the parallel cam's
+    # size is its samples less 15 (it takes 16 to 721); the schema's largest samples are the edge there
+    # (the next size up is a 422)
+    Case("barrel cam, JSON", "POST", "/v1/cams/barrel", lambda n: {**BARREL_EXAMPLE, "samples": n}, "samples",
+         400_000),
+    Case("parallel cam, JSON", "POST", "/v1/cams/parallel", lambda n: {**PARALLEL_EXAMPLE, "samples": 15 + n},
+         "samples over 15", 706),
+    Case("roller-gear cam, JSON", "POST", "/v1/cams/roller-gear",
+         lambda n: {**ROLLER_GEAR_EXAMPLE, "samples": n, "length_samples": 41}, "samples", 3601),
+    Case("roller-gear rib, STL", "POST", "/v1/cams/roller-gear.stl",
+         lambda n: {**ROLLER_GEAR_EXAMPLE, "samples": n, "length_samples": 41}, "samples", 3601),
     Case("curve plot, PNG", "GET", "/v1/curves/MS/plot", lambda n: None, "dpi", 300,
          query=lambda n: {"format": "png", "dpi": n}),
     Case("profile plot, PNG", "GET", "/v1/profiles/plot", lambda n: None, "dpi", 300,

@@ -177,6 +177,8 @@ def rib_triangles(result: RollerGearResult) -> FloatArray:
     # a cap: quads between the forward flank's points j, j+1 and the back flank's (ring positions m−1−j, m−2−j)
     cap = np.concatenate([np.stack([jj, m - 2 - jj, jj + 1], -1), np.stack([jj, m - 1 - jj, m - 2 - jj], -1)])
     faces = np.concatenate([side, cap, (n - 1) * m + cap[:, ::-1]])
-    tri = vertices[faces]
-    volume = np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])).sum() / 6.0
-    return tri if volume > 0 else tri[:, ::-1]
+    # the facets face out when the rings, in their order, turn positively about the way the rib
+    # runs: the sign of Σ A·Δc (A a ring's vector area, c its mean point), the swept volume's
+    swept = np.einsum("ij,ij->", 0.5 * np.cross(rings, np.roll(rings, -1, axis=1)).sum(axis=1)[:-1],
+                      np.diff(rings.mean(axis=1), axis=0))
+    return vertices[faces if swept > 0 else faces[:, ::-1]]
