@@ -15,19 +15,10 @@ import httpx
 import numpy as np
 import pytest
 
-from service.app import create_app
 from service.cams.parallel_specs import PARALLEL_EXAMPLE, TWO_PLATE_EXAMPLE
-from service.settings import Settings
 
 pytestmark = pytest.mark.anyio
 PATH = "/v1/cams/parallel"
-
-
-@pytest.fixture
-async def client() -> Any:
-    app = create_app(Settings())
-    async with httpx.AsyncClient(transport=httpx.ASGITransport(app=app), base_url="http://test") as c:
-        yield c
 
 
 async def test_three_plates_hold_the_turret_and_touch_their_rollers(client: httpx.AsyncClient) -> None:

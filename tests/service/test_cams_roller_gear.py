@@ -25,13 +25,6 @@ pytestmark = pytest.mark.anyio
 PATH = "/v1/cams/roller-gear"
 
 
-@pytest.fixture
-async def client() -> Any:
-    app = create_app(Settings())
-    async with httpx.AsyncClient(transport=httpx.ASGITransport(app=app), base_url="http://test") as c:
-        yield c
-
-
 async def test_flank_points_sit_on_their_rollers(client: httpx.AsyncClient) -> None:
     r = await client.post(PATH, json=ROLLER_GEAR_EXAMPLE)
     assert r.status_code == 200, r.text
