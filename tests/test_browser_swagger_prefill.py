@@ -1,8 +1,8 @@
 """Swagger UI's "Try it out" pre-fills every POST with a body that answers 200: a real headless Chromium.
 
 The page is Swagger UI itself (the bundle the service serves at /static/docs, the app's
-/openapi.json), with every operation expanded; a few lines of script press "Try it out" on each
-POST and copy the body editor's text into the page, which Chromium dumps. Each pre-filled body is
+/openapi.json); a few lines of script open each POST in turn, press "Try it out", copy the body
+editor's text into the page and close the operation again, and Chromium dumps the page. Each pre-filled body is
 then posted to the same live server (``python -m service`` on a loopback port). Chromium's
 network is limited to the loopback interface; the page is a local file, so it may read the
 service's document across origins (``--disable-web-security``, this throwaway profile only).
@@ -43,23 +43,25 @@ PAGE = """<!doctype html>
 <script>
 SwaggerUIBundle({url: "BASE/openapi.json", dom_id: "#swagger-ui", docExpansion: "list", deepLinking: false,
                  defaultModelsExpandDepth: -1});
-const opened = new Set(), pressed = new Set();
+// one POST at a time: open it, press "Try it out", read its body editor, close it again, so the page
+// never holds more than one expanded operation (with all of them open every update re-rendered
+// every operation: 150-180 s for the 60-odd POSTs on a 2-core machine, against a 180 s limit)
+const bodies = {};
+let queue = null, stage = 0;
+function pathOf(op) { return op.querySelector(".opblock-summary-path").getAttribute("data-path"); }
 function step() {
   const ops = [...document.querySelectorAll(".opblock-post")];
-  if (!ops.length) { setTimeout(step, 100); return; }
-  for (const op of ops) {  // open each POST once, press "Try it out" once, wait for its body editor
-    const path = op.querySelector(".opblock-summary-path").getAttribute("data-path");
-    if (!opened.has(path)) { op.querySelector(".opblock-summary-control").click(); opened.add(path); continue; }
-    const button = op.querySelector(".try-out__btn");
-    if (button && !pressed.has(path)) { button.click(); pressed.add(path); }
+  if (!ops.length) { setTimeout(step, 50); return; }
+  if (queue === null) queue = ops.map(pathOf);
+  if (!queue.length) { document.getElementById("prefill").textContent = JSON.stringify(bodies); return; }
+  const op = ops.find(o => pathOf(o) === queue[0]);
+  if (stage === 0) { op.querySelector(".opblock-summary-control").click(); stage = 1; }
+  else if (stage === 1) { const button = op.querySelector(".try-out__btn"); if (button) { button.click(); stage = 2; } }
+  else {
+    const editor = op.querySelector("textarea.body-param__text");
+    if (editor) { bodies[queue.shift()] = editor.value; op.querySelector(".opblock-summary-control").click(); stage = 0; }
   }
-  const editors = ops.map(op => op.querySelector("textarea.body-param__text"));
-  if (editors.some(e => !e)) { setTimeout(step, 100); return; }
-  const bodies = {};
-  ops.forEach((op, i) => {
-    bodies[op.querySelector(".opblock-summary-path").getAttribute("data-path")] = editors[i].value;
-  });
-  document.getElementById("prefill").textContent = JSON.stringify(bodies);
+  setTimeout(step, 50);
 }
 setTimeout(step, 100);
 </script></body></html>
