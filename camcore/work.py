@@ -95,7 +95,7 @@ def law_cost(kind: str, parameters: Mapping[str, Any]) -> LawCost:
     return CURVE_KINDS[kind].cost(parameters)
 
 
-def curve_work(law: LawCost, field: Field) -> WorkEstimate:
+def curve_work(law: LawCost, field: Field, values_only: bool = False) -> WorkEstimate:
     """Building one curve.
 
     Parameters
@@ -104,6 +104,9 @@ def curve_work(law: LawCost, field: Field) -> WorkEstimate:
         The curve's cost (:func:`law_cost`).
     field : tuple
         The request field of the curve spec.
+    values_only : bool
+        Only the curve and its characteristic values, not its inverse's tables
+        (:attr:`LawCost.values_s`) [-].
 
     Returns
     -------
@@ -114,6 +117,8 @@ def curve_work(law: LawCost, field: Field) -> WorkEstimate:
     ----------
     camcore.curves.kinds (LawCost).
     """
+    if values_only:
+        return WorkEstimate((WorkTerm(field, "building the curve and its characteristic values", law.values_s),))
     return WorkEstimate((WorkTerm(field, "building the curve", law.build_s),))
 
 

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import math
 import tempfile
-from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +19,7 @@ import camcore
 from camcore.cams.roller_gear import make_roller_gear_cam, rib_triangles, sample_roller_gear
 from camcore.errors import GeometryError, InvalidParameterError
 from camcore.export import mesh_stl
+from tests.stl_mesh import directed_edges, read_stl
 
 STOPS, C, RP, RR, LENGTH, TH = 8, 100.0, 60.0, 10.0, 20.0, 120.0
 H = 2 * math.pi / STOPS
@@ -194,24 +194,11 @@ def test_a_short_index_folds_the_flank_and_the_roller_cuts_it() -> None:
     assert not sample_roller_gear(make_roller_gear_cam(STOPS, C, RP, RR, LENGTH, TH, "MS"), 181, 5).checks.undercut
 
 
-def read_stl(data: bytes) -> np.ndarray:
-    """The facets of a binary STL, shape (n, 3, 3), by numpy (the layout of the 1989 specification)."""
-    count = int(np.frombuffer(data, "<u4", 1, 80)[0])
-    assert len(data) == 84 + 50 * count
-    rows = np.frombuffer(data, dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]), count=count,
-                         offset=84)
-    return rows["v"].astype(np.float64)
-
-
 def test_rib_stl_is_closed_with_positive_volume_and_reads_in_the_cad_kernel() -> None:
     result = sample_roller_gear(make_roller_gear_cam(STOPS, C, RP, RR, LENGTH, TH, "MS"), 181, 5)
     data = mesh_stl(rib_triangles(result), header="roller-gear rib")
     facets = read_stl(data)
-    keys = np.round(facets, 4)
-    edges: Counter[tuple[tuple[float, ...], tuple[float, ...]]] = Counter()
-    for a, b in ((0, 1), (1, 2), (2, 0)):
-        for p, q in zip(map(tuple, keys[:, a]), map(tuple, keys[:, b]), strict=True):
-            edges[(p, q)] += 1
+    edges = directed_edges(facets)
     # closed and consistently oriented: each directed edge once and its reverse once
     assert all(n == 1 for n in edges.values()) and all(edges[(q, p)] == 1 for p, q in edges)
     volume = float(np.einsum("ij,ij->i", facets[:, 0], np.cross(facets[:, 1], facets[:, 2])).sum() / 6.0)

@@ -12,9 +12,7 @@ from __future__ import annotations
 
 import math
 import os
-import struct
 import tempfile
-from collections import Counter
 
 import numpy as np
 import pytest
@@ -23,6 +21,7 @@ import camcore
 from camcore.errors import InvalidParameterError, LimitExceededError
 from camcore.export import SOLID_FORMATS, SolidCam, solid_step, solid_stl
 from camcore.profile import Follower, Segment, compute_profile, make_cam
+from tests.stl_mesh import directed_edges, read_stl
 
 MS = camcore.named_curve("MS")
 ROLLER = make_cam(Follower(type="roller", roller_radius_mm=10), 40, segments=[
@@ -77,15 +76,6 @@ def read_step(data: bytes) -> tuple[int, float, tuple[float, ...]]:
     return solids, props.Mass(), (lo.X(), lo.Y(), lo.Z(), hi.X(), hi.Y(), hi.Z())
 
 
-def read_stl(data: bytes) -> np.ndarray:
-    """The facets of a binary STL, shape (n, 3, 3) [mm]; the count in the header must match."""
-    (count,) = struct.unpack_from("<I", data, 80)
-    assert len(data) == 84 + 50 * count
-    rows = np.frombuffer(data, dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")]),
-                         count=count, offset=84)
-    return rows["v"].astype(np.float64)
-
-
 @pytest.mark.parametrize(("spec", "bore"), [(ROLLER, 20.0), (FLAT, 0.0)], ids=["roller-bored", "flat-oscillating"])
 def test_step_reads_back_as_one_solid_of_the_right_volume_and_box(spec: camcore.profile.CamSpec, bore: float) -> None:
     tolerance, thickness = 0.001, 12.0
@@ -111,11 +101,7 @@ def test_stl_is_closed_with_the_right_volume() -> None:
     facets = read_stl(data)
     # closed and consistently oriented: each directed edge once, and its reverse once
     # (float32 vertices, rounded to 1e-4 mm to name them)
-    keys = np.round(facets, 4)
-    edges = Counter()
-    for a, b in ((0, 1), (1, 2), (2, 0)):
-        for p, q in zip(map(tuple, keys[:, a]), map(tuple, keys[:, b])):
-            edges[(p, q)] += 1
+    edges = directed_edges(facets)
     assert all(n == 1 for n in edges.values())
     assert all(edges[(q, p)] == 1 for p, q in edges)
     # volume by the divergence theorem, Σ v0 · (v1 × v2) / 6: positive for outward normals. The

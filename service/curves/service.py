@@ -61,19 +61,17 @@ class CurveService:
 
     def characteristics_work(self, spec: CurveSpec) -> WorkEstimate:
         """The curve built with its characteristic values (no inverse tables), or nothing when cached."""
-        law = self.law(spec)
-        if self.curves.peek(spec.cache_key()) is not None:
-            return WorkEstimate((WorkTerm(("curve",), "the curve, already built", 0.0),))
-        return WorkEstimate((WorkTerm(("curve",), "building the curve and its characteristic values", law.values_s),))
+        return self.build_work(spec, self.law(spec), ("curve",), values_only=True)
 
-    def build_work(self, spec: CurveSpec, law: LawCost, at: tuple[str | int, ...], inverse: bool = False
-                   ) -> WorkEstimate:
+    def build_work(self, spec: CurveSpec, law: LawCost, at: tuple[str | int, ...], inverse: bool = False,
+                   values_only: bool = False) -> WorkEstimate:
         """Building the spec's curve: nothing when it is in the cache (with its inverse's start
-        tables, if ``inverse``), else the law's build cost."""
+        tables, if ``inverse``), else the law's build cost (``values_only``: without the inverse's
+        tables, camcore.work.curve_work)."""
         cached = self.curves.peek(spec.cache_key())
         if cached is not None and (not inverse or cached.inverse_ready):
             return WorkEstimate((WorkTerm(at, "the curve, already built", 0.0),))
-        return curve_work(law, at)
+        return curve_work(law, at, values_only)
 
     def table_work(self, spec: CurveSpec, rows: int, csv: bool, field: tuple[str | int, ...]) -> WorkEstimate:
         """A table of ``rows`` rows (``field``: samples or t): the curve, evaluated and

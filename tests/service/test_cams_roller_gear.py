@@ -10,7 +10,6 @@ from __future__ import annotations
 import csv
 import io
 import math
-from collections import Counter
 from typing import Any
 
 import httpx
@@ -20,6 +19,7 @@ import pytest
 from service.app import create_app
 from service.cams.roller_gear_specs import ROLLER_GEAR_EXAMPLE, UNDERCUT_EXAMPLE
 from service.settings import Settings
+from tests.stl_mesh import directed_edges, read_stl
 
 pytestmark = pytest.mark.anyio
 PATH = "/v1/cams/roller-gear"
@@ -81,10 +81,8 @@ async def test_stl_is_the_closed_rib(client: httpx.AsyncClient) -> None:
     count = int(np.frombuffer(one.content, "<u4", 1, 80)[0])
     # two facets per quad between 61 rings of 6 points, two caps of 2 quads
     assert count == 2 * 60 * 6 + 4 * 2 and len(one.content) == 84 + 50 * count
-    rows = np.frombuffer(one.content, np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]), count, 84)
-    facets = rows["v"].astype(np.float64)
-    edges = Counter((tuple(p), tuple(q)) for a, b in ((0, 1), (1, 2), (2, 0))
-                    for p, q in zip(facets[:, a].tolist(), facets[:, b].tolist(), strict=True))
+    facets = read_stl(one.content)
+    edges = directed_edges(facets, decimals=None)
     assert all(n == 1 for n in edges.values()) and all(edges[(q, p)] == 1 for p, q in edges)
     assert np.einsum("ij,ij->i", facets[:, 0], np.cross(facets[:, 1], facets[:, 2])).sum() > 0
 

@@ -70,21 +70,24 @@ class RollerGearResult:
     checks: RibChecks = field(metadata=doc("the cam's checks"))
 
 
-def _largest_pressure(cam: RollerGearCam, radius_mm: float) -> tuple[float, float]:
-    """The largest |β| at one radius over the index, both flanks: (cam angle, angle) [rad]."""
+def _largest_pressures(cam: RollerGearCam, radii_mm: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The largest |β| over the index and both flanks at each radius: (cam angles, angles) [rad],
+    every flank and radius refined together."""
     index = math.radians(cam.indexer.indexing_angle_deg)
-    behind = np.array([0.0, cam.index_rad])[:, None]  # forward, back: α = φ − this
+    behind = np.repeat([cam.behind_rad(f) for f in FLANKS], radii_mm.size)[:, None]  # lanes: flank × radius
+    radius = np.tile(radii_mm, len(FLANKS))[:, None]
 
-    def size(theta: FloatArray) -> FloatArray:  # one row per flank
+    def size(theta: FloatArray) -> FloatArray:  # one row per lane
         phi, d1, _ = turret_motion(cam.indexer, theta)
-        return np.abs(pressure_angle_rad(cam, phi - behind, d1, radius_mm))
+        return np.abs(pressure_angle_rad(cam, phi - behind, d1, radius))
 
     grid = np.linspace(0.0, index, PRESSURE_GRID)
-    k = np.argmax(size(np.broadcast_to(grid, (2, grid.size))), axis=1)
+    k = np.argmax(size(np.broadcast_to(grid, (behind.size, grid.size))), axis=1)
     at, value = local_grid_max(size, grid[np.maximum(k - 1, 0)], grid[np.minimum(k + 1, grid.size - 1)],
                                width=REFINED_WIDTH)
-    best = int(np.argmax(value))
-    return float(at[best]), float(value[best])
+    best = np.argmax(value.reshape(len(FLANKS), -1), axis=0)  # the worse flank at each radius
+    lanes = best * radii_mm.size + np.arange(radii_mm.size)
+    return at[lanes], value[lanes]
 
 
 def sample_roller_gear(cam: RollerGearCam, samples: int = 361, length_samples: int = 5) -> RollerGearResult:
@@ -116,14 +119,14 @@ def sample_roller_gear(cam: RollerGearCam, samples: int = 361, length_samples: i
     theta = np.linspace(0.0, 2 * math.pi, n)
     r_in, r_out = cam.roller_ends_mm
     positions = np.linspace(r_in, r_out, k)
-    pitch = [cam.roller_pitch_radius_mm]
-    states = {f: flank_state(cam, f, theta, positions) for f in FLANKS}
+    turret = turret_motion(cam.indexer, theta)  # once: both flanks and the columns read it
+    phi, d1, _ = turret
+    states = {f: flank_state(cam, f, theta, positions, turret) for f in FLANKS}
     flanks = {f: RibFlank(f, np.ascontiguousarray(s.q[..., 0]), np.ascontiguousarray(s.q[..., 1]),
                           np.ascontiguousarray(s.q[..., 2]), np.degrees(s.pressure_angle_rad), s.regularity > 0)
               for f, s in states.items()}
     folded = np.flatnonzero(~(flanks["forward"].regular.all(axis=1) & flanks["back"].regular.all(axis=1)))
-    at, largest = _largest_pressure(cam, cam.roller_pitch_radius_mm)
-    along = _largest_pressure(cam, r_out)[1]
+    (at, _), (largest, along) = _largest_pressures(cam, np.array([cam.roller_pitch_radius_mm, r_out]))
     radii = np.concatenate([np.hypot(s.q[..., 0], s.q[..., 1]).ravel() for s in states.values()])
     checks = RibChecks(
         max_pressure_angle_deg=math.degrees(largest), max_pressure_angle_at_deg=math.degrees(at),
@@ -132,10 +135,11 @@ def sample_roller_gear(cam: RollerGearCam, samples: int = 361, length_samples: i
         min_regularity=float(min(s.regularity.min() for s in states.values())),
         min_rib_thickness_mm=float(np.linalg.norm(states["forward"].q - states["back"].q, axis=-1).min()),
         cam_root_radius_mm=float(radii.min()), cam_outer_radius_mm=float(radii.max()))
+    pitch = cam.roller_pitch_radius_mm
     return RollerGearResult(
-        np.degrees(theta), np.degrees(cam.roller_angle("forward", theta)[0]),
-        np.degrees(flank_state(cam, "forward", theta, pitch).pressure_angle_rad[:, 0]),
-        np.degrees(flank_state(cam, "back", theta, pitch).pressure_angle_rad[:, 0]),
+        np.degrees(theta), np.degrees(phi),
+        np.degrees(pressure_angle_rad(cam, phi - cam.behind_rad("forward"), d1, pitch)),
+        np.degrees(pressure_angle_rad(cam, phi - cam.behind_rad("back"), d1, pitch)),
         positions, flanks["forward"], flanks["back"], checks)
 
 

@@ -57,10 +57,14 @@ class RollerGearCam:
         half = 0.5 * self.roller_length_mm
         return self.roller_pitch_radius_mm - half, self.roller_pitch_radius_mm + half
 
+    def behind_rad(self, flank: Flank) -> float:
+        """How far the roller making ``flank`` stands behind the turret's angle: α = φ − this [rad]."""
+        return self.index_rad if flank == "back" else 0.0
+
     def roller_angle(self, flank: Flank, cam_angle_rad: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """α, dα/dθ, d²α/dθ² of the roller making ``flank`` [rad, -, 1/rad]."""
         phi, d1, d2 = turret_motion(self.indexer, cam_angle_rad)
-        return (phi - self.index_rad if flank == "back" else phi), d1, d2
+        return phi - self.behind_rad(flank), d1, d2
 
 
 @dataclass(frozen=True)
@@ -199,7 +203,8 @@ def _vec(x: FloatArray, y: FloatArray | float, z: FloatArray) -> FloatArray:
     return np.stack(np.broadcast_arrays(x, np.asarray(y, dtype=np.float64), np.asarray(z, dtype=np.float64)), axis=-1)
 
 
-def flank_state(cam: RollerGearCam, flank: Flank, cam_angle_rad: ArrayLike, positions_mm: ArrayLike) -> FlankState:
+def flank_state(cam: RollerGearCam, flank: Flank, cam_angle_rad: ArrayLike, positions_mm: ArrayLike,
+                turret: tuple[FloatArray, FloatArray, FloatArray] | None = None) -> FlankState:
     """The contact of the roller making ``flank`` with the rib: cam angles (rows) × positions along the roller.
 
     Parameters
@@ -212,6 +217,9 @@ def flank_state(cam: RollerGearCam, flank: Flank, cam_angle_rad: ArrayLike, posi
         θ, 1-D [rad].
     positions_mm : array_like
         r, distances from the turret axis along the roller's axis, 1-D [mm].
+    turret : tuple of ndarray, optional
+        φ, φ', φ'' at ``cam_angle_rad`` when already evaluated (:func:`camcore.cams.turret.turret_motion`)
+        [rad, -, 1/rad].
 
     Returns
     -------
@@ -226,7 +234,11 @@ def flank_state(cam: RollerGearCam, flank: Flank, cam_angle_rad: ArrayLike, posi
     """
     theta = np.asarray(cam_angle_rad, dtype=np.float64).reshape(-1, 1)
     r = np.asarray(positions_mm, dtype=np.float64).reshape(1, -1)
-    alpha, d1, d2 = cam.roller_angle(flank, theta)
+    if turret is None:
+        alpha, d1, d2 = cam.roller_angle(flank, theta)
+    else:
+        phi, d1, d2 = (np.asarray(x, dtype=np.float64).reshape(-1, 1) for x in turret)
+        alpha = phi - cam.behind_rad(flank)
     sigma, c_dist, rr = SIDE[flank], cam.center_distance_mm, cam.roller_radius_mm
     ca, sa = np.cos(alpha), np.sin(alpha)
     den = c_dist - r * ca  # > 0: the rollers stop short of the cam axis
