@@ -81,3 +81,56 @@ def test_catalog_values(name: str, vm: float, am: float) -> None:
     found = characteristic_values([build_curve("named", {"name": name})])
     assert found["vm"][0] == pytest.approx(vm, abs=0.005)
     assert found["am_pos"][0] == pytest.approx(am, abs=0.005)
+
+
+# ------------------------------------------------------------------ one curve's few roots, one by one
+# A curve alone has a few Newton roots (two for MS-like universal curves); they are refined one
+# by one on the section's scalar formulas (camcore.curves.sections.eval_section_point and
+# camcore._solvers.newton_root) where the batch refines hundreds together on arrays. The batch
+# rows above equal the single values only because both give the same numbers to the bit.
+def _random_section_curves(count: int, seed: int) -> list:
+    rng = np.random.default_rng(seed)
+    curves = [build_curve("named", {"name": name}) for name in ("MS", "MCV50", "MT", "TR", "cycloid")]
+    while len(curves) < count:
+        t1, t2, t3 = sorted(rng.uniform(0.01, 0.99, 3))
+        kind = rng.integers(3)
+        if kind == 0:
+            curves.append(build_curve("universal", {"t": [0, t1 / 2, t1, t2, t2, t3, t3, 1]}))
+        elif kind == 1:
+            curves.append(build_curve("universal", {"t": [0, t1, t1, t2, t2, t3, t3, 1], "m": float(rng.uniform(0.2, 0.8))}))
+        else:
+            curves.append(build_curve("makino", {"number": 4, "t1": float(t1 / 4), "t3": float(t1 / 2)}))
+    return curves
+
+
+def test_scalar_formulas_equal_the_array_formulas_to_the_bit() -> None:
+    """eval_point at random times on every piece, and at each piece's ends, equals eval_pieces."""
+    rng = np.random.default_rng(3)
+    for curve in _random_section_curves(60, 11):
+        assert curve.has_point_formulas
+        for k in range(curve.n_pieces):
+            a, b = float(curve.piece_starts[k]), float(curve.piece_ends[k])
+            times = np.concatenate([[a, b], rng.uniform(a, b, 20)])
+            arrays = curve.eval_pieces(times, np.full(times.size, k), 4)
+            for i, t in enumerate(times.tolist()):
+                assert curve.eval_point(t, k) == [float(row[i]) for row in arrays], (t, k)
+
+
+def test_one_by_one_newton_equals_the_array_newton(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The candidates of 300 curves with their roots refined one by one equal those refined on
+    arrays (the path a batch takes), and the one-by-one path was taken."""
+    from camcore.curves import extrema
+
+    taken = []
+    real = extrema._point_root
+    monkeypatch.setattr(extrema, "_point_root", lambda *args: taken.append(1) or real(*args))
+    curves = _random_section_curves(300, 5)
+    rows = (extrema.characteristic_rows, extrema.characteristic_row_slopes)
+    one_by_one = [extrema.critical_points(c, *rows) for c in curves]
+    assert len(taken) > 300
+    monkeypatch.setattr(extrema, "_POINT_NEWTON_MAX", -1)
+    taken.clear()
+    together = [extrema.critical_points(c, *rows) for c in curves]
+    assert not taken
+    for (t1, k1), (t2, k2) in zip(one_by_one, together):
+        assert np.array_equal(t1, t2) and np.array_equal(k1, k2)

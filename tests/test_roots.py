@@ -49,3 +49,33 @@ def test_root_next_to_an_end_and_an_exact_zero() -> None:
     # a linear function: the first chord lands on the root exactly (f = 0) and both ends take it
     a, b, calls = _solve(lambda t, i: t - 0.5, [0.25], [0.75])
     assert a[0] == b[0] == 0.5 and calls == 1
+
+
+def test_one_bracket_in_floats_equals_the_array_newton() -> None:
+    """camcore._solvers.newton_root (one bracket, Python floats) takes newton_roots' steps: the
+    same root to the bit, for rising and falling functions, a zero slope (it bisects) and a
+    root at a bracket's end; and the root is acos(c) to 4 ulp."""
+    from camcore._solvers import newton_root, newton_roots
+
+    c = np.linspace(-0.95, 0.95, 41)
+    roots = np.arccos(c)
+    lo = roots - np.linspace(0.02, 0.98, c.size) / 64
+    hi = lo + 1 / 64
+    lo[0], hi[1] = roots[0], roots[1]  # f = 0 at the left end of one bracket, the right of another
+    # cos t − c falls; (cos t − c)³ has a zero slope at its root; 2·(c − cos t) rises
+    cases = [(lambda t, i: (np.cos(t) - c[i], -np.sin(t))),
+             (lambda t, i: ((np.cos(t) - c[i]) ** 3, -3 * (np.cos(t) - c[i]) ** 2 * np.sin(t))),
+             (lambda t, i: (2 * (c[i] - np.cos(t)), 2 * np.sin(t)))]
+    for n_case, f in enumerate(cases):
+        index = np.arange(c.size)
+        f_lo, f_hi = f(lo, index)[0], f(hi, index)[0]
+        together = newton_roots(f, lo.copy(), hi.copy(), f_lo, f_hi, index)
+        for i in range(c.size):
+            one = newton_root(lambda t, i=i: tuple(float(x) for x in f(np.float64(t), i)),  # noqa: B023
+                              float(lo[i]), float(hi[i]), float(f_lo[i]), float(f_hi[i]))
+            assert one == together[i], (i, one, together[i])
+        if n_case == 0:
+            # f itself rounds: cos t and c are within an ulp of 1 (2.2e-16) each, which moves the
+            # root by that over |f'| = sin t (0.31 at c = ±0.95); plus the root's own 4 ulp
+            eps = np.finfo(float).eps
+            assert np.all(np.abs(together - roots) <= 2 * eps / np.sin(roots) + 4 * np.spacing(roots))

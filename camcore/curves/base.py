@@ -85,10 +85,17 @@ class PiecewiseCurve:
 
     piece_starts: FloatArray
     t_end: float
+    #: whether :meth:`eval_point` is there (scalar formulas giving eval_pieces' numbers)
+    has_point_formulas: bool = False
 
     # ---------------------------------------------------------------- subclasses
     def eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
         """Return [S, V, A, J, dJ/dT][: order + 1] of the given pieces at t."""
+        raise NotImplementedError
+
+    def eval_point(self, t: float, k: int) -> list[float]:
+        """[S, V, A, J, dJ/dT] of piece k at one t, as Python floats: the numbers
+        :meth:`eval_pieces` gives there, to the bit (only where :attr:`has_point_formulas`)."""
         raise NotImplementedError
 
     def eval_piece(self, t: FloatArray, k: int, order: int, out: list[FloatArray],

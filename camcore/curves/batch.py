@@ -20,8 +20,8 @@ from numpy.typing import NDArray
 
 from .base import FloatArray, PiecewiseCurve
 from .curve import Curve
-from .extrema import _BRACKET_SAMPLES, critical_points
-from .sections import SectionCurve, eval_sections
+from .extrema import _BRACKET_SAMPLES, characteristic_row_slopes, characteristic_rows, critical_points
+from .sections import SectionColumns, SectionCurve, eval_sections
 
 #: the values :func:`characteristic_values` gives, as named on :class:`Characteristics`
 VALUES = ("vm", "am_pos", "am_neg", "jm_pos", "jm_neg", "qm_pos", "qm_neg")
@@ -31,7 +31,7 @@ VALUES = ("vm", "am_pos", "am_neg", "jm_pos", "jm_neg", "qm_pos", "qm_neg")
 _PIECES_PER_PASS = 2**18 // _BRACKET_SAMPLES
 
 
-class _SectionStack(PiecewiseCurve):
+class _SectionStack(SectionColumns, PiecewiseCurve):
     """The sections of several section curves side by side (pieces in any order)."""
 
     def __init__(self, curves: Sequence[SectionCurve]):
@@ -48,10 +48,7 @@ class _SectionStack(PiecewiseCurve):
 def _stacked_values(curves: Sequence[SectionCurve]) -> dict[str, FloatArray]:
     stack = _SectionStack(curves)
     # the rows of :func:`camcore.curves.extrema.characteristics`: peaks of S, V, A, J, A·V
-    t_all, k_all = critical_points(
-        stack, lambda d: np.vstack([d[1], d[2], d[3], d[4], d[3] * d[1] + d[2] * d[2]]),
-        lambda d: [d[2], d[3], d[4], None, d[4] * d[1] + 3.0 * d[2] * d[3]],
-    )
+    t_all, k_all = critical_points(stack, characteristic_rows, characteristic_row_slopes)
     _, v, a, j = stack.eval_pieces(t_all, k_all, 3)
     owner = stack.owner[k_all]
     order = np.argsort(owner, kind="stable")

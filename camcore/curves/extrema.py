@@ -12,20 +12,32 @@ References
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._solvers import illinois_roots, newton_roots
+from .._solvers import illinois_roots, newton_root, newton_roots
 from ..results import Extremum, doc
 from .base import FloatArray, PiecewiseCurve
 from .jumps import AccelerationJump, acceleration_jumps
 
+#: functions of [S, V, A, J, dJ/dT] (arrays, or floats at one time) to rows (a sequence, or one array)
+Rows = Callable[[list[Any]], Any]
+#: the same to each row's own derivative, None for a row without one
+RowSlopes = Callable[[list[Any]], list[Any]]
+
 #: samples per piece used to bracket the roots of a derivative before refining them;
 #: every piece of every curve we build has at most a few extrema, far fewer than this.
 _BRACKET_SAMPLES = 257
+
+#: roots refined one by one on a curve's scalar formulas (:meth:`PiecewiseCurve.eval_point`)
+#: up to this many, where the array loop's fixed cost per operation is most of its work;
+#: both give the same numbers (tests/test_characteristics_batch.py)
+_POINT_NEWTON_MAX = 16
 
 
 @dataclass(frozen=True)
@@ -57,8 +69,49 @@ class Characteristics:
         "T7 against the dwells (A = 0)"))
 
 
-def critical_points(curve: PiecewiseCurve, slopes: Callable[[list[FloatArray]], FloatArray],
-                    slope_derivatives: Callable[[list[FloatArray]], list[FloatArray | None]] | None = None,
+def characteristic_rows(d: list[Any]) -> list[Any]:
+    """The functions whose roots are the peaks of S, V, A, J and A·V.
+
+    Parameters
+    ----------
+    d : list of ndarray or of float
+        [S, V, A, J, dJ/dT] at some times (arrays) or at one time (floats) [-].
+
+    Returns
+    -------
+    list
+        V, A, J, dJ/dT and d(A·V)/dT = J·V + A² at the same times [-].
+
+    References
+    ----------
+    Makino (1977), characteristic values Vm, Am, Jm, Qm (A·V).
+    """
+    return [d[1], d[2], d[3], d[4], d[3] * d[1] + d[2] * d[2]]
+
+
+def characteristic_row_slopes(d: list[Any]) -> list[Any]:
+    """Each of :func:`characteristic_rows`' own derivative.
+
+    Parameters
+    ----------
+    d : list of ndarray or of float
+        [S, V, A, J, dJ/dT] at some times (arrays) or at one time (floats) [-].
+
+    Returns
+    -------
+    list
+        A, J, dJ/dT, None and dJ·V + 3·A·J [-]: J's row has none here (it would need d²J/dT²),
+        so its roots are refined by the Illinois method, the others' by Newton.
+
+    References
+    ----------
+    Press et al. (2007), §9.4 (Newton on the exact derivative).
+    """
+    return [d[2], d[3], d[4], None, d[4] * d[1] + 3.0 * d[2] * d[3]]
+
+
+def critical_points(curve: PiecewiseCurve, slopes: Rows,
+                    slope_derivatives: RowSlopes | None = None,
                     ) -> tuple[FloatArray, NDArray[np.intp]]:
     """Times, with their pieces, where functions of the motion may peak over [T0, T7].
 
@@ -70,15 +123,18 @@ def critical_points(curve: PiecewiseCurve, slopes: Callable[[list[FloatArray]], 
         Maps [S, V, A, J, dJ/dT] at some times to the rows (one per function) of the
         functions' derivatives with respect to T.
     slope_derivatives : callable, optional
-        Maps the same to each row's own derivative (None for a row without one).
+        Maps the same to each row's own derivative (None for a row without one). Both are
+        also called with floats (one time) where the curve has scalar formulas
+        (:attr:`PiecewiseCurve.has_point_formulas`): they must then return a list of rows.
 
     Returns
     -------
     (ndarray, ndarray)
         Candidate times T [-] and their pieces (indices) [-]: each piece's two ends
         (one-sided limits) and every interior root of every row, bracketed on a grid of all
-        pieces at once and refined to machine precision: all rows with a derivative together
-        by safeguarded Newton, the others by the Illinois method.
+        pieces at once and refined to machine precision: all rows with a derivative by
+        safeguarded Newton (together on arrays, or one by one on the curve's scalar formulas
+        when they are few: the same numbers), the others by the Illinois method.
 
     References
     ----------
@@ -90,29 +146,33 @@ def critical_points(curve: PiecewiseCurve, slopes: Callable[[list[FloatArray]], 
     n = curve.n_pieces
     # fewer grid points per piece when there are many small pieces (splines of many
     # points: cubic pieces whose derivatives have at most a few roots)
-    per_piece = int(np.clip(2**18 // max(n, 1), 17, _BRACKET_SAMPLES))
-    frac = np.linspace(0.0, 1.0, per_piece)
-    grid = starts[:, None] + (ends - starts)[:, None] * frac[None, :]
+    per_piece = min(max(2**18 // max(n, 1), 17), _BRACKET_SAMPLES)
+    grid = starts[:, None] + (ends - starts)[:, None] * _fractions(per_piece)[None, :]
     kk = np.repeat(np.arange(n, dtype=np.intp), per_piece)
 
     def rows(t: FloatArray, piece: NDArray[np.intp]) -> FloatArray:
         return np.atleast_2d(np.asarray(slopes(curve.eval_pieces(t, piece, 4)), dtype=np.float64))
 
     derivs = rows(grid.reshape(-1), kk)
-    derivs = derivs.reshape(derivs.shape[0], n, per_piece)
-    has_slope = [False] * derivs.shape[0]
-    if slope_derivatives is not None:
-        nothing = curve.eval_pieces(np.empty(0), np.empty(0, dtype=np.intp), 4)
-        has_slope = [d is not None for d in slope_derivatives(nothing)]
+    n_rows = derivs.shape[0]
+    derivs = derivs.reshape(n_rows, n, per_piece)
+    has_slope = [False] * n_rows
+    if slope_derivatives is not None:  # which rows have one: ask with floats (no evaluation)
+        has_slope = [d is not None for d in slope_derivatives([0.0] * 5)]
     times = [starts, ends]
     pieces = [np.arange(n, dtype=np.intp), np.arange(n, dtype=np.intp)]
+    # every row's sign changes and exact zeros at once, then row by row (sorted by row)
+    sign = np.sign(derivs)
+    q_all, k_all, i_all = np.nonzero(sign[:, :, :-1] * sign[:, :, 1:] < 0)
+    q_zero, k_zero, i_zero = np.nonzero(derivs == 0.0)
+    cuts, zero_cuts = np.searchsorted(q_all, np.arange(n_rows + 1)), np.searchsorted(q_zero, np.arange(n_rows + 1))
     newton: list[tuple[FloatArray, FloatArray, FloatArray, FloatArray, NDArray[np.intp]]] = []
-    for q, d in enumerate(derivs):
-        sign = np.sign(d)
-        k_idx, i_idx = np.nonzero(sign[:, :-1] * sign[:, 1:] < 0)
+    for q in range(n_rows):
+        k_idx, i_idx = k_all[cuts[q]:cuts[q + 1]], i_all[cuts[q]:cuts[q + 1]]
         if k_idx.size:
-            lo, hi = grid[k_idx, i_idx].copy(), grid[k_idx, i_idx + 1].copy()
-            f_lo, f_hi = d[k_idx, i_idx].copy(), d[k_idx, i_idx + 1].copy()
+            d = derivs[q]
+            lo, hi = grid[k_idx, i_idx], grid[k_idx, i_idx + 1]
+            f_lo, f_hi = d[k_idx, i_idx], d[k_idx, i_idx + 1]
             if has_slope[q]:
                 newton.append((lo, hi, f_lo, f_hi, q * n + k_idx))
             else:
@@ -122,26 +182,58 @@ def critical_points(curve: PiecewiseCurve, slopes: Callable[[list[FloatArray]], 
                 illinois_roots(row_q, lo, hi, f_lo, f_hi, k_idx)
                 times.append(0.5 * (lo + hi))
                 pieces.append(k_idx)
-        zk, zi = np.nonzero(d == 0.0)
-        if zk.size and zk.size < d.size:
-            times.append(grid[zk, zi])
-            pieces.append(zk)
+        zeros = zero_cuts[q + 1] - zero_cuts[q]
+        if zeros and zeros < n * per_piece:  # a row zero everywhere has no peak to find
+            times.append(grid[k_zero[zero_cuts[q]:zero_cuts[q + 1]], i_zero[zero_cuts[q]:zero_cuts[q + 1]]])
+            pieces.append(k_zero[zero_cuts[q]:zero_cuts[q + 1]])
     if newton:
         assert slope_derivatives is not None
-        label = np.concatenate([b[4] for b in newton])
-
-        def value_and_slope(t: FloatArray, lab: NDArray[np.intp]) -> tuple[FloatArray, FloatArray]:
-            row, piece = np.divmod(lab, n)
-            d = curve.eval_pieces(t, piece, 4)  # once: the rows and their slopes both read it
-            values, slopes_of = np.atleast_2d(np.asarray(slopes(d), dtype=np.float64)), slope_derivatives(d)
-            take = np.arange(t.size)
-            slope_rows = np.vstack([np.broadcast_to(np.nan if r is None else r, t.shape) for r in slopes_of])
-            return values[row, take], slope_rows[row, take]
-
-        lo, hi, f_lo, f_hi = (np.concatenate([b[i] for b in newton]) for i in range(4))
-        times.append(newton_roots(value_and_slope, lo, hi, f_lo, f_hi, label))
+        lo, hi, f_lo, f_hi, label = (np.concatenate([b[i] for b in newton]) for i in range(5))
+        times.append(_newton_refined(curve, slopes, slope_derivatives, lo, hi, f_lo, f_hi, label))
         pieces.append(label % n)
     return np.concatenate(times), np.concatenate(pieces)
+
+
+@functools.cache
+def _fractions(samples: int) -> FloatArray:
+    """``samples`` evenly spaced fractions of a piece, 0 to 1 (read-only: shared)."""
+    frac = np.linspace(0.0, 1.0, samples)
+    frac.flags.writeable = False
+    return frac
+
+
+def _newton_refined(curve: PiecewiseCurve, slopes: Rows,
+                    slope_derivatives: RowSlopes, lo: FloatArray,
+                    hi: FloatArray, f_lo: FloatArray, f_hi: FloatArray, label: NDArray[np.intp]) -> FloatArray:
+    """The roots in the brackets (``label``: row × n_pieces + piece) by safeguarded Newton: one by
+    one on the curve's scalar formulas when they are few, else all together on arrays."""
+    n = curve.n_pieces
+    if curve.has_point_formulas and label.size <= _POINT_NEWTON_MAX:
+        return np.array([_point_root(curve, slopes, slope_derivatives, *divmod(lab, n), *bracket)
+                         for lab, *bracket in zip(label.tolist(), lo.tolist(), hi.tolist(), f_lo.tolist(),
+                                                  f_hi.tolist())], dtype=np.float64)
+
+    def value_and_slope(t: FloatArray, lab: NDArray[np.intp]) -> tuple[FloatArray, FloatArray]:
+        row, piece = np.divmod(lab, n)
+        d = curve.eval_pieces(t, piece, 4)  # once: the rows and their slopes both read it
+        values, slopes_of = np.atleast_2d(np.asarray(slopes(d), dtype=np.float64)), slope_derivatives(d)
+        take = np.arange(t.size)
+        slope_rows = np.vstack([np.broadcast_to(np.nan if r is None else r, t.shape) for r in slopes_of])
+        return values[row, take], slope_rows[row, take]
+
+    return newton_roots(value_and_slope, lo, hi, f_lo, f_hi, label)
+
+
+def _point_root(curve: PiecewiseCurve, slopes: Rows,
+                slope_derivatives: RowSlopes, row: int, piece: int,
+                lo: float, hi: float, f_lo: float, f_hi: float) -> float:
+    """One row's root on one piece by :func:`newton_root` on the curve's scalar formulas: the
+    number the array refinement gives (the rows are the same expressions on floats)."""
+    def value_and_slope(t: float) -> tuple[float, float]:
+        d = curve.eval_point(t, piece)
+        return slopes(d)[row], slope_derivatives(d)[row]
+
+    return newton_root(value_and_slope, lo, hi, f_lo, f_hi)
 
 
 def peaks_of(times: FloatArray, values: FloatArray) -> tuple[Extremum, Extremum]:
@@ -165,7 +257,11 @@ def peaks_of(times: FloatArray, values: FloatArray) -> tuple[Extremum, Extremum]
     INDEXMAN technical guide, section 5, characteristic table.
     """
     order = np.argsort(times, kind="stable")
-    t_sorted, v_sorted = times[order], values[order]
+    return _sorted_peaks(times[order], values[order])
+
+
+def _sorted_peaks(t_sorted: FloatArray, v_sorted: FloatArray) -> tuple[Extremum, Extremum]:
+    """:func:`peaks_of` for candidates already in order of T."""
     i_max, i_min = int(np.argmax(v_sorted)), int(np.argmin(v_sorted))
     return Extremum(float(v_sorted[i_max]), float(t_sorted[i_max])), Extremum(float(v_sorted[i_min]),
                                                                               float(t_sorted[i_min]))
@@ -191,16 +287,15 @@ def characteristics(curve: PiecewiseCurve) -> Characteristics:
     """
     # the rows' roots are the peaks of S, V, A, J and A·V; J's has no derivative (it would
     # need d²J/dT²) and is refined by the Illinois method, the others by Newton
-    t_all, k_all = critical_points(
-        curve, lambda d: np.vstack([d[1], d[2], d[3], d[4], d[3] * d[1] + d[2] * d[2]]),
-        lambda d: [d[2], d[3], d[4], None, d[4] * d[1] + 3.0 * d[2] * d[3]],
-    )
-    s_, v, acc, j = curve.eval_pieces(t_all, k_all, 3)
-    s_max, s_min = peaks_of(t_all, s_)
-    v_max, v_min = peaks_of(t_all, v)
-    am_pos, am_neg = peaks_of(t_all, acc)
-    jm_pos, jm_neg = peaks_of(t_all, j)
-    q_pos, q_neg = peaks_of(t_all, acc * v)
+    t_all, k_all = critical_points(curve, characteristic_rows, characteristic_row_slopes)
+    order = np.argsort(t_all, kind="stable")  # once for every peak (peaks_of's order)
+    t_all = t_all[order]
+    s_, v, acc, j = curve.eval_pieces(t_all, k_all[order], 3)
+    s_max, s_min = _sorted_peaks(t_all, s_)
+    v_max, v_min = _sorted_peaks(t_all, v)
+    am_pos, am_neg = _sorted_peaks(t_all, acc)
+    jm_pos, jm_neg = _sorted_peaks(t_all, j)
+    q_pos, q_neg = _sorted_peaks(t_all, acc * v)
     vm = v_max if abs(v_max.value) >= abs(v_min.value) else v_min
     am = max(abs(am_pos.value), abs(am_neg.value))
     # the T of the largest |A|; the earlier of the two peaks when they tie, and they tie

@@ -57,7 +57,9 @@ def acceleration_jumps(curve: PiecewiseCurve, am: float) -> tuple[AccelerationJu
     inside_left, inside_right = left_pieces >= 0, right_pieces < n
     before = np.zeros(at.size)
     after = np.zeros(at.size)
-    before[inside_left] = curve.eval_pieces(at[inside_left], left_pieces[inside_left], 2)[2]
-    after[inside_right] = curve.eval_pieces(at[inside_right], right_pieces[inside_right], 2)[2]
+    # both sides in one evaluation: n pieces' ends, then their starts
+    sides = curve.eval_pieces(np.concatenate([at[inside_left], at[inside_right]]),
+                              np.concatenate([left_pieces[inside_left], right_pieces[inside_right]]), 2)[2]
+    before[inside_left], after[inside_right] = sides[:n], sides[n:]
     jump = np.abs(after - before) > JUMP_TOLERANCE * max(1.0, am)
     return tuple(AccelerationJump(float(t), float(b), float(a)) for t, b, a in zip(at[jump], before[jump], after[jump]))

@@ -21,6 +21,7 @@ H. Makino, "Universal Cam Curve and Its Application" (1977), eqs. (1)-(9).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import NamedTuple
 
 import numpy as np
@@ -132,6 +133,51 @@ def eval_sections(coefficients: FloatArray, t: FloatArray, piece: NDArray[np.int
     return out
 
 
+def eval_section_point(c: list[float], t: float) -> list[float]:
+    """[S, V, A, J, dJ/dT] at one t on one section, as Python floats.
+
+    Parameters
+    ----------
+    c : list of float
+        The section's column of a coefficient matrix, in the order of :data:`COEFFICIENTS` [-].
+    t : float
+        Dimensionless time [-].
+
+    Returns
+    -------
+    list of float
+        [S, V, A, J, dJ/dT] at t [-]: :func:`eval_sections`' operations in its order, so
+        its numbers to the bit (a float's + − × ÷ round as numpy's do; tan is numpy's).
+
+    References
+    ----------
+    Makino (1977), eqs. (1)-(9).
+    """
+    start, half_omega, s, v, alpha, b_w, s_q, s_r, v_q, v_r, a_c, a_q, a_r, j_c, j_q, j_r, d_c, d_q, d_r = c
+    tau = t - start
+    u = float(np.tan(tau * half_omega))  # numpy's tan, as the arrays get it (libm's may differ by an ulp)
+    u2 = u * u
+    d = u2 + 1.0
+    q, r = u / d, u2 / d
+    return [s + tau * (v + 0.5 * alpha * tau + b_w) + s_q * q + s_r * r, v + alpha * tau + v_q * q + v_r * r,
+            a_c + a_q * q + a_r * r, j_c + j_q * q + j_r * r, d_c + d_q * q + d_r * r]
+
+
+class SectionColumns:
+    """Scalar evaluation for a curve whose pieces are columns of a section coefficient matrix."""
+
+    coefficients: FloatArray
+    has_point_formulas = True
+
+    @cached_property
+    def _columns(self) -> list[list[float]]:
+        return self.coefficients.T.tolist()
+
+    def eval_point(self, t: float, k: int) -> list[float]:
+        """[S, V, A, J, dJ/dT] of piece k at one t (:func:`eval_section_point`)."""
+        return eval_section_point(self._columns[k], t)
+
+
 class _Sum(NamedTuple):
     """One output as const + Σ coef·basis, zero coefficients left out (basis 0 = τ, 1 = q, 2 = r).
 
@@ -193,7 +239,7 @@ class Section:
     from_end: bool = False
 
 
-class SectionCurve(Curve):
+class SectionCurve(SectionColumns, Curve):
     """A curve built from :class:`Section` s, continuous in S and V.
 
     Parameters
@@ -260,7 +306,7 @@ class SectionCurve(Curve):
         b_ww, g_ww = beta * omega**2, gamma * omega**2
         # coefficient table, one row per section (gathered by section index); with
         # sin = 2q, 1 − cos = 2r, cos = 1 − 2r (doubling is exact):
-        self._coef = {
+        coef = {
             "start": anchor,
             "half_omega": 0.5 * omega,
             "s": s_start,
@@ -281,15 +327,21 @@ class SectionCurve(Curve):
             "d_q": -2.0 * b_ww,
             "d_r": 2.0 * g_ww,
         }
-        assert tuple(self._coef) == COEFFICIENTS
-        self.coefficients = np.array(list(self._coef.values()))
-        # the same coefficients per section as Python floats (+ 0.0: no −0)
+        assert tuple(coef) == COEFFICIENTS
+        self.coefficients = np.array(list(coef.values()))
         self._plans: dict[tuple[int, int], _Plan] = {}
-        self._rows: list[_Coef] = []
-        for k in range(n):
-            row = {name: float(col[k]) + 0.0 for name, col in self._coef.items()}
+
+    @cached_property
+    def _rows(self) -> list[_Coef]:
+        """The coefficients per section as Python floats (+ 0.0: no −0), for sorted tables
+        (:meth:`eval_piece`); made when first needed (a curve asked only for its
+        characteristic values never needs them)."""
+        rows = []
+        for column in self._columns:
+            row = {name: value + 0.0 for name, value in zip(COEFFICIENTS, column)}
             row["s_k"] = row["v"] + row["b_w"]  # as the gathered v + α/2·τ + β/ω reads at α = 0
-            self._rows.append(_Coef(**row))
+            rows.append(_Coef(**row))
+        return rows
 
     def eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
         return eval_sections(self.coefficients, t, piece, order)
