@@ -103,11 +103,15 @@ def _random_section_curves(count: int, seed: int) -> list:
     return curves
 
 
-def test_scalar_formulas_equal_the_array_formulas_to_the_bit() -> None:
-    """eval_point at random times on every piece, and at each piece's ends, equals eval_pieces."""
+def test_scalar_and_grid_formulas_equal_the_array_formulas_to_the_bit() -> None:
+    """eval_point at random times on every piece, and at each piece's ends, equals eval_pieces;
+    so does eval_grid (the bracketing grid: coefficients repeated per piece, not gathered)."""
     rng = np.random.default_rng(3)
     for curve in _random_section_curves(60, 11):
         assert curve.has_point_formulas
+        grid = np.sort(rng.uniform(curve.piece_starts[:, None], curve.piece_ends[:, None], (curve.n_pieces, 9)))
+        gathered = curve.eval_pieces(grid.reshape(-1), np.repeat(np.arange(curve.n_pieces), 9), 4)
+        assert all(np.array_equal(a, b.reshape(grid.shape)) for a, b in zip(curve.eval_grid(grid, 4), gathered))
         for k in range(curve.n_pieces):
             a, b = float(curve.piece_starts[k]), float(curve.piece_ends[k])
             times = np.concatenate([[a, b], rng.uniform(a, b, 20)])

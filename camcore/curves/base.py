@@ -93,6 +93,14 @@ class PiecewiseCurve:
         """Return [S, V, A, J, dJ/dT][: order + 1] of the given pieces at t."""
         raise NotImplementedError
 
+    def eval_grid(self, grid: FloatArray, order: int) -> list[FloatArray]:
+        """[S, V, A, J, dJ/dT][: order + 1] on a grid of shape (n_pieces, m), row k on piece k:
+        :meth:`eval_pieces`' numbers, shaped like the grid (a subclass may use that each piece's
+        points are together)."""
+        n, m = grid.shape
+        values = self.eval_pieces(grid.reshape(-1), np.repeat(np.arange(n, dtype=np.intp), m), order)
+        return [v.reshape(n, m) for v in values]
+
     def eval_point(self, t: float, k: int) -> list[float]:
         """[S, V, A, J, dJ/dT] of piece k at one t, as Python floats: the numbers
         :meth:`eval_pieces` gives there, to the bit (only where :attr:`has_point_formulas`)."""
