@@ -130,16 +130,26 @@ def cold_start(runs: int) -> dict[str, Any]:
     """Seconds from starting ``python -m service`` (1 worker) to its first 200 on /health ÷ the
     same for a bare FastAPI app under uvicorn, started alternately."""
     ours, bare = [], []
+    with_imports: dict[str, list[float]] = {"numpy": [], "camcore": []}
     for _ in range(runs):
         with Server(workers=1, cpus="0", bare=True) as floor:
             bare.append(floor.first_answer_s)
         with Server(workers=1, cpus="0") as server:
             ours.append(server.first_answer_s)
+        for module, times in with_imports.items():  # the floor importing what the service needs first
+            with Server(workers=1, cpus="0", bare=True, BENCH_BARE_IMPORTS=module) as floor:
+                times.append(floor.first_answer_s)
     with Server(workers=2, cpus="0,1") as two:
         two_workers = two.first_answer_s
     return figure([o / b for o, b in zip(ours, bare)], "<= 1.3", service_s=[round(x, 3) for x in ours],
                   bare_fastapi_s=[round(x, 3) for x in bare], two_workers_s=round(two_workers, 3),
                   median_service_s=round(statistics.median(ours), 3),
+                  bare_importing_numpy_vs_bare=round(statistics.median(
+                      n / b for n, b in zip(with_imports["numpy"], bare)), 3),
+                  bare_importing_camcore_vs_bare=round(statistics.median(
+                      c / b for c, b in zip(with_imports["camcore"], bare)), 3),
                   what="seconds from starting python -m service (1 worker) to its first 200 on /health ÷ the same "
                        "for a bare FastAPI app with one route under uvicorn (bench/bare_app.py); two_workers_s: "
-                       "CAMCORE_WORKERS=2 once (both workers answer /health only once up; the first one counts)")
+                       "CAMCORE_WORKERS=2 once (both workers answer /health only once up; the first one counts); "
+                       "bare_importing_*_vs_bare: the bare app importing numpy, or camcore, first ÷ the bare app "
+                       "(what the service's own dependencies cost before any route exists)")
