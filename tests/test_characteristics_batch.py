@@ -129,12 +129,11 @@ def test_one_by_one_newton_equals_the_array_newton(monkeypatch: pytest.MonkeyPat
     real = extrema._point_root
     monkeypatch.setattr(extrema, "_point_root", lambda *args: taken.append(1) or real(*args))
     curves = _random_section_curves(300, 5)
-    rows = (extrema.characteristic_rows, extrema.characteristic_row_slopes)
-    one_by_one = [extrema.critical_points(c, *rows) for c in curves]
+    one_by_one = [extrema.characteristic_candidates(c) for c in curves]
     assert len(taken) > 300
     monkeypatch.setattr(extrema, "_POINT_NEWTON_MAX", -1)
     taken.clear()
-    together = [extrema.critical_points(c, *rows) for c in curves]
+    together = [extrema.characteristic_candidates(c) for c in curves]
     assert not taken
     for (t1, k1), (t2, k2) in zip(one_by_one, together):
         assert np.array_equal(t1, t2) and np.array_equal(k1, k2)

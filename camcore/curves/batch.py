@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from .base import FloatArray, PiecewiseCurve
 from .curve import Curve
-from .extrema import _BRACKET_SAMPLES, characteristic_row_slopes, characteristic_rows, critical_points
+from .extrema import _BRACKET_SAMPLES, characteristic_candidates
 from .sections import SectionColumns, SectionCurve, eval_sections
 
 #: the values :func:`characteristic_values` gives, as named on :class:`Characteristics`
@@ -48,7 +48,7 @@ class _SectionStack(SectionColumns, PiecewiseCurve):
 def _stacked_values(curves: Sequence[SectionCurve]) -> dict[str, FloatArray]:
     stack = _SectionStack(curves)
     # the rows of :func:`camcore.curves.extrema.characteristics`: peaks of S, V, A, J, A·V
-    t_all, k_all = critical_points(stack, characteristic_rows, characteristic_row_slopes)
+    t_all, k_all = characteristic_candidates(stack)
     _, v, a, j = stack.eval_pieces(t_all, k_all, 3)
     owner = stack.owner[k_all]
     order = np.argsort(owner, kind="stable")

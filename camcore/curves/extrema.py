@@ -69,45 +69,37 @@ class Characteristics:
         "T7 against the dwells (A = 0)"))
 
 
-def characteristic_rows(d: list[Any]) -> list[Any]:
-    """The functions whose roots are the peaks of S, V, A, J and A·V.
-
-    Parameters
-    ----------
-    d : list of ndarray or of float
-        [S, V, A, J, dJ/dT] at some times (arrays) or at one time (floats) [-].
-
-    Returns
-    -------
-    list
-        V, A, J, dJ/dT and d(A·V)/dT = J·V + A² at the same times [-].
-
-    References
-    ----------
-    Makino (1977), characteristic values Vm, Am, Jm, Qm (A·V).
-    """
+def _characteristic_rows(d: list[Any]) -> list[Any]:
+    """V, A, J, dJ/dT and d(A·V)/dT = J·V + A² (arrays, or floats at one time): the functions
+    whose roots are the peaks of S, V, A, J and A·V."""
     return [d[1], d[2], d[3], d[4], d[3] * d[1] + d[2] * d[2]]
 
 
-def characteristic_row_slopes(d: list[Any]) -> list[Any]:
-    """Each of :func:`characteristic_rows`' own derivative.
+def _characteristic_row_slopes(d: list[Any]) -> list[Any]:
+    """Each row's own derivative; J's has none here (it would need d²J/dT²), so its roots are
+    refined by the Illinois method, the others' by Newton."""
+    return [d[2], d[3], d[4], None, d[4] * d[1] + 3.0 * d[2] * d[3]]
+
+
+def characteristic_candidates(curve: PiecewiseCurve) -> tuple[FloatArray, NDArray[np.intp]]:
+    """Where S, V, A, J and A·V may peak: the candidates every characteristic value is taken from.
 
     Parameters
     ----------
-    d : list of ndarray or of float
-        [S, V, A, J, dJ/dT] at some times (arrays) or at one time (floats) [-].
+    curve : PiecewiseCurve
+        The curve (one alone, or many curves' sections stacked side by side).
 
     Returns
     -------
-    list
-        A, J, dJ/dT, None and dJ·V + 3·A·J [-]: J's row has none here (it would need d²J/dT²),
-        so its roots are refined by the Illinois method, the others' by Newton.
+    (ndarray, ndarray)
+        Candidate times T [-] and their pieces [-] (:func:`critical_points` of the roots of V,
+        A, J, dJ/dT and J·V + A²).
 
     References
     ----------
-    Press et al. (2007), §9.4 (Newton on the exact derivative).
+    Makino (1977), characteristic values Vm, Am, Jm, Qm taken section by section.
     """
-    return [d[2], d[3], d[4], None, d[4] * d[1] + 3.0 * d[2] * d[3]]
+    return critical_points(curve, _characteristic_rows, _characteristic_row_slopes)
 
 
 def critical_points(curve: PiecewiseCurve, slopes: Rows,
@@ -302,7 +294,7 @@ def characteristics(curve: PiecewiseCurve) -> Characteristics:
     """
     # the rows' roots are the peaks of S, V, A, J and A·V; J's has no derivative (it would
     # need d²J/dT²) and is refined by the Illinois method, the others by Newton
-    t_all, k_all = critical_points(curve, characteristic_rows, characteristic_row_slopes)
+    t_all, k_all = characteristic_candidates(curve)
     order = np.argsort(t_all, kind="stable")  # once for every peak (peaks_of's order)
     t_all = t_all[order]
     s_, v, acc, j = curve.eval_pieces(t_all, k_all[order], 3)
