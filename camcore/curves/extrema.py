@@ -136,10 +136,7 @@ def critical_points(curve: PiecewiseCurve, slopes: Rows,
     """
     starts, ends = curve.piece_starts, curve.piece_ends
     n = curve.n_pieces
-    # fewer grid points per piece when there are many small pieces (splines of many
-    # points: cubic pieces whose derivatives have at most a few roots)
-    per_piece = min(max(2**18 // max(n, 1), 17), _BRACKET_SAMPLES)
-    grid = starts[:, None] + (ends - starts)[:, None] * _fractions(per_piece)[None, :]
+    grid = _bracket_grid(curve)
 
     def rows(t: FloatArray, piece: NDArray[np.intp]) -> FloatArray:
         return np.atleast_2d(np.asarray(slopes(curve.eval_pieces(t, piece, 4)), dtype=np.float64))
@@ -199,6 +196,15 @@ def _grid_indices(mask: NDArray[np.bool_]) -> tuple[NDArray[np.intp], NDArray[np
     _, pieces, points = mask.shape
     row, rest = np.divmod(np.flatnonzero(mask), pieces * points)
     return (row, *np.divmod(rest, points))
+
+
+def _bracket_grid(curve: PiecewiseCurve) -> FloatArray:
+    """The grid the roots are bracketed on: row k evenly over piece k, both ends included;
+    fewer points per piece when there are many small pieces (splines of many points: cubic
+    pieces whose derivatives have at most a few roots)."""
+    per_piece = min(max(2**18 // max(curve.n_pieces, 1), 17), _BRACKET_SAMPLES)
+    starts, ends = curve.piece_starts, curve.piece_ends
+    return starts[:, None] + (ends - starts)[:, None] * _fractions(per_piece)[None, :]
 
 
 @functools.cache
@@ -292,8 +298,6 @@ def characteristics(curve: PiecewiseCurve) -> Characteristics:
     Makino (1977), characteristic values; INDEXMAN technical guide, section 5
     (characteristic table, Q = A·V/Am).
     """
-    # the rows' roots are the peaks of S, V, A, J and A·V; J's has no derivative (it would
-    # need d²J/dT²) and is refined by the Illinois method, the others by Newton
     t_all, k_all = characteristic_candidates(curve)
     order = np.argsort(t_all, kind="stable")  # once for every peak (peaks_of's order)
     t_all = t_all[order]
@@ -361,11 +365,9 @@ def power_balance_peaks(curve: PiecewiseCurve, c1: ArrayLike, c2: ArrayLike
     k1 = np.atleast_1d(np.asarray(c1, dtype=np.float64))
     k2 = np.atleast_1d(np.asarray(c2, dtype=np.float64))
     rows = k1.size
-    starts = curve.piece_starts
-    ends = np.append(starts[1:], curve.t_end)
+    starts, ends = curve.piece_starts, curve.piece_ends
     n = curve.n_pieces
-    per_piece = int(np.clip(2**18 // max(n, 1), 17, _BRACKET_SAMPLES))
-    grid = starts[:, None] + (ends - starts)[:, None] * np.linspace(0.0, 1.0, per_piece)[None, :]
+    grid = _bracket_grid(curve)
     _, v, a, j = curve.eval_grid(grid, 3)
     inertia_slope, friction_slope = j * v + a * a, a
     cand_t = [np.tile(np.concatenate([starts, ends]), rows)]
