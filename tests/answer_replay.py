@@ -40,9 +40,9 @@ PROFILE = {"follower": {"type": "roller", "roller_radius_mm": 10}, "base_radius_
                         {"type": "dwell", "angle_deg": 60}, {"type": "return", "angle_deg": 120, "lift_mm": 20},
                         {"type": "dwell", "angle_deg": 60}]}
 
-#: GET requests: the README's, the charts, spreadsheet cells, and refusals
+#: GET requests: the README's, the charts, spreadsheet cells, and refusals (not /health: its
+#: cache counts tell what the process did before)
 GETS: list[str] = [
-    "/health",
     "/v1/curves", "/v1/curves/26", "/v1/curves/MS", "/v1/curves/cycloyd",
     "/v1/curves/MS/table?samples=101", "/v1/curves/MS/table?samples=101&format=csv",
     "/v1/curves/MS/table.csv?samples=11&direction=return", "/v1/curves/MS/table?samples=1",

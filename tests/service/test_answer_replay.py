@@ -26,7 +26,7 @@ async def test_every_recorded_answer_is_the_same() -> None:
     transport = httpx.ASGITransport(app=create_app())
     differ = []
     async with httpx.AsyncClient(transport=transport, base_url="http://testserver", timeout=120) as client:
-        for entry in ENTRIES:  # in the recorded order: /health's cache counts depend on what came before
+        for entry in ENTRIES:
             got = await answer(client, entry)
             if got != entry["answer"]:
                 differ.append(f"{entry['method']} {entry['path']} {json.dumps(entry['body'])[:80]}: "
