@@ -21,7 +21,7 @@ from typing import Any
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
-from pydantic import BaseModel
+from pydantic import BaseModel, ValidationError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from camcore.errors import (
@@ -37,6 +37,9 @@ from camcore.errors import (
 from service.responses import JSONBody
 
 logger = logging.getLogger("camcore.service")
+
+#: where in a request something is: ("profile", "segments", 2, "curve")
+Location = tuple[str | int, ...]
 
 #: exception type → HTTP status; the most specific matching class wins (MRO order)
 DEFAULT_STATUS_CODES: dict[type[Exception], int] = {
@@ -100,6 +103,13 @@ def relocate(old: tuple[str | int, ...], new: tuple[str | int, ...], keep_rest: 
         if located[: len(old)] == old:
             setattr(exc, _REQUEST_FIELD, (*new, *located[len(old):]) if keep_rest else new)
         raise
+
+
+def query_error(exc: ValidationError) -> RequestValidationError:
+    """A spec built from query parameters failed: answer 422 like any invalid query."""
+    errors = [{"type": e.get("type", "value_error"), "loc": ("query", *e.get("loc", ())), "msg": e.get("msg", ""),
+               "input": None} for e in exc.errors()]
+    return RequestValidationError(errors)
 
 
 def error_loc(request: Request, exc: CamError) -> list[str | int]:

@@ -105,8 +105,9 @@ class Spec(DefaultsInDescriptions):
 
     def model_copy(self, *, update: Mapping[str, Any] | None = None, deep: bool = False) -> Self:
         copy = super().model_copy(update=update, deep=deep)
-        if update:
-            copy._cache_key = None  # a changed copy is another spec
+        if update:  # a changed copy is another spec: what was made from this one is made again
+            for name, private in type(self).__private_attributes__.items():
+                setattr(copy, name, private.get_default())
         return copy
 
 

@@ -12,7 +12,7 @@ from .bezier import BezierCurve
 from .catalog import CATALOG, CatalogEntry, lookup, named_curve
 from .curve import Curve
 from .extrema import Characteristics
-from .kinds import CURVE_KINDS, CurveKind, build_curve
+from .kinds import CURVE_KINDS, CurveKind, Law, build_curve
 from .makino import MAKINO_SPECIAL, makino_curve
 from .points import PointsCurve
 from .polynomial import PolynomialCurve, named_polynomial, polynomial_from_boundary
@@ -29,6 +29,7 @@ __all__ = [
     "Curve",
     "CurveKind",
     "CurveValues",
+    "Law",
     "PiecewiseCurve",
     "PointsCurve",
     "PolynomialCurve",

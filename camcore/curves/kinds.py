@@ -14,7 +14,7 @@ References
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from ..errors import InvalidParameterError
@@ -28,6 +28,21 @@ from .reverse import ReturnCurve
 from .universal import universal_curve
 
 DIRECTIONS = ("rise", "return")
+
+
+@dataclass(frozen=True)
+class Law:
+    """A curve spec as plain data: its kind (a key of :data:`CURVE_KINDS`), that kind's
+    parameters and its direction, as :func:`build_curve` takes them.
+
+    In a motion program some parameters may be left out to be matched or solved
+    (:mod:`camcore.motion.laws`): a polynomial's ``start``/``end``, a universal curve's
+    ``v0``/``v7``, Makino curve 2's ``t4``.
+    """
+
+    kind: str
+    parameters: Mapping[str, Any] = field(default_factory=dict)
+    direction: str = "rise"
 
 
 @dataclass(frozen=True)

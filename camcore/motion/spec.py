@@ -23,11 +23,12 @@ References
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
-from typing import Any, Literal
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Literal
 
 from .._checks import finite
+from ..curves.kinds import Law
 from ..errors import InvalidParameterError
 
 #: ``to`` of a segment whose stroke is solved (the API's ``"to": null``)
@@ -41,20 +42,6 @@ MATCH_ORDERS = {"acceleration": 2, "jerk": 3}
 #: the units of slave positions: mm (translating follower), deg (swing, indexer output)
 UNITS = ("mm", "deg")
 SEGMENT_TYPES = ("move", "dwell")
-
-
-@dataclass(frozen=True)
-class Law:
-    """A segment's law: a curve spec as :func:`camcore.curves.kinds.build_curve` takes it.
-
-    In a program some parameters may be left out to be matched or solved
-    (:mod:`camcore.motion.laws`): a polynomial's ``start``/``end``, a universal curve's
-    ``v0``/``v7``, Makino curve 2's ``t4``.
-    """
-
-    kind: str
-    parameters: Mapping[str, Any] = field(default_factory=dict)
-    direction: str = "rise"
 
 
 #: the law of a segment that gives none
@@ -165,13 +152,16 @@ def check_spans(spans_deg: Sequence[float], period_deg: float) -> None:
             "(one machine cycle).", field=("segments",))
 
 
-def check_program(spec: MotionSpec) -> None:
+def check_program(spec: MotionSpec, segments: bool = True) -> None:
     """Every rule of a program that needs no law built: segments, spans, start, unit.
 
     Parameters
     ----------
     spec : MotionSpec
         The program.
+    segments : bool
+        Also each segment's own rules (:func:`check_segment`); a caller that has checked
+        them one by one, where each is, leaves them out [-].
 
     Raises
     ------
@@ -190,6 +180,7 @@ def check_program(spec: MotionSpec) -> None:
     finite("start", spec.start)
     if spec.unit not in UNITS:
         raise InvalidParameterError(f"unit must be 'mm' or 'deg', not {spec.unit!r}.", field=("unit",))
-    for i, segment in enumerate(spec.segments):
-        check_segment(i, segment)
+    if segments:
+        for i, segment in enumerate(spec.segments):
+            check_segment(i, segment)
     check_spans([s.span_deg for s in spec.segments], period)

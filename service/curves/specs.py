@@ -3,14 +3,15 @@ answers."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Annotated, Any, ClassVar, Literal
 
 from fastapi.openapi.models import Example
-from pydantic import BaseModel, Field, GetJsonSchemaHandler, create_model, model_validator
+from pydantic import BaseModel, Field, GetJsonSchemaHandler, PrivateAttr, create_model, model_validator
 from pydantic.json_schema import JsonSchemaValue
 from pydantic_core import CoreSchema
 
-from camcore.curves import Characteristics
+from camcore.curves import Characteristics, Law
 from camcore.curves.kinds import POLYNOMIAL_NAMES
 from camcore.curves.makino import MAKINO_BREAK_POINTS, MAKINO_SPECIAL, check_makino_parameters
 from camcore.curves.polynomial import check_choice
@@ -30,6 +31,8 @@ class CurveKindSpec(Spec):
     """A curve spec: its ``type`` is a kind of camcore.curves.kinds.CURVE_KINDS, its other
     fields (but ``direction``) are that kind's parameters."""
 
+    _law: Law | None = PrivateAttr(None)
+
     @classmethod
     def __get_pydantic_json_schema__(cls, core_schema: CoreSchema, handler: GetJsonSchemaHandler) -> JsonSchemaValue:
         # a request always takes a curve spec through the CurveSpec union, whose discriminator
@@ -44,6 +47,12 @@ class CurveKindSpec(Spec):
         return {name: getattr(self, name) if not isinstance(getattr(self, name), Spec)
                 else getattr(self, name).model_dump()
                 for name in type(self).model_fields if name not in ("type", "direction")}
+
+    def core(self) -> Law:
+        """The spec in camcore's terms (made once: specs are not changed after validation)."""
+        if self._law is None:
+            self._law = Law(self.type, self.parameters(), self.direction)  # type: ignore[attr-defined]
+        return self._law
 
 
 class NamedCurveSpec(CurveKindSpec):
@@ -138,8 +147,14 @@ class MakinoCurveSpec(CurveKindSpec):
 
     def solved_parameters(self) -> dict[str, float]:
         """The curve's own parameters given or solved from its target (camcore's solve_targets)."""
-        solved = solve_targets(self.number, {name: getattr(self, name) for name in (*MAKINO_PARAMETERS, *MAKINO_TARGETS)})
-        return {name: value for name, value in solved.items() if value is not None}
+        return solved_parameters(self.parameters())
+
+
+def solved_parameters(parameters: Mapping[str, Any]) -> dict[str, float]:
+    """A makino law's own parameters, given or solved from its target (camcore's solve_targets)."""
+    solved = solve_targets(parameters["number"], {name: parameters.get(name)
+                                                   for name in (*MAKINO_PARAMETERS, *MAKINO_TARGETS)})
+    return {name: value for name, value in solved.items() if value is not None}
 
 
 class UniversalCurveSpec(CurveKindSpec):

@@ -12,35 +12,20 @@ import itertools
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from fastapi import APIRouter, Body, Depends, Query, Request
 from fastapi.openapi.models import Example
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model, model_validator
-from starlette.responses import Response
 
 from camcore.curves import Curve, build_curve
 from camcore.curves.batch import VALUES, characteristic_values
 from camcore.curves.targets import TARGETS
 from camcore.errors import CamError
-from camcore.work import WorkEstimate, per_item_work
-from service.admission import WorkGate
-from service.curves.routes import CSV, ERRORS
-from service.curves.service import CurveService
+from camcore.work import CHARACTERISTICS_SWEEP_ROW_S, DESIGN_CHART_S, WorkEstimate, per_item_work
+from service.context import Context
+from service.curves.charts import design_chart
+from service.curves.library import check_limit
 from service.curves.specs import MAKINO_PARAMETERS, MAKINO_TARGETS, MakinoCurveSpec, UniversalCurveSpec
-from service.deps import curve_service, work_gate
-from service.plots.charts import IMAGE_RESPONSE, MEDIA_TYPES
-from service.plots.design_chart import design_chart
-from service.responses import table_response, wants_csv
-from service.routing import OrjsonRoute
+from service.operations import JSON, PNG_DRAWING, SVG_DRAWING, Format, Operation, Payload, Table, csv
 from service.specs import Finite, Spec, examples, rule
-
-#: one combination: its spec validated and its curve built, then its share of finding every
-#: curve's values together (camcore.curves.batch); measured on a 2-core machine: 65 ms for
-#: the 16 × 32 grid of curve 4 (512 rows, 200 curves, the rest refused at ~0.02 ms each), so
-#: 0.3 ms per curve (0.9 ms when each curve was done alone); 0.3 ms × 1.5
-ROW_S = 1.5 * 0.3e-3
-#: drawing the design chart of 512 rows: 0.12 s PNG or SVG, matplotlib loaded (0.5 s the first
-#: time, as every chart); 0.2 s × 1.5
-CHART_S = 1.5 * 0.2
 
 #: what a universal spec may vary: a break point T0..T7 (``t3`` is T3), or an end condition
 UNIVERSAL_VARIABLES = (*(f"t{i}" for i in range(8)), "m", "v0", "v7", "s0", "s7")
@@ -107,14 +92,15 @@ CharacteristicsSweepAnswer = create_model(
 CharacteristicsSweepAnswer.__module__ = __name__
 
 
-def sweep_work(curves: CurveService, body: CharacteristicsSweepRequest, chart: bool) -> WorkEstimate:
+def sweep_work(ctx: Context, body: CharacteristicsSweepRequest, fmt: Format) -> WorkEstimate:
     """413 over CAMCORE_MAX_SWEEP_COMBINATIONS; each combination (and a chart's drawing)."""
     first = next(iter(body.vary))
-    curves.check_limit("characteristics sweep combinations", body.combinations,
-                       curves.settings.max_sweep_combinations, ("vary", first))
-    work = per_item_work(body.combinations, ROW_S, ("vary", first), f"{body.combinations} curves")
-    if chart:
-        work += per_item_work(1, CHART_S, ("vary",), "drawing the chart")
+    check_limit("characteristics sweep combinations", body.combinations, ctx.settings.max_sweep_combinations,
+                ("vary", first))
+    work = per_item_work(body.combinations, CHARACTERISTICS_SWEEP_ROW_S, ("vary", first),
+                         f"{body.combinations} curves")
+    if fmt in CHARTS:
+        work += per_item_work(1, DESIGN_CHART_S, ("vary",), "drawing the chart")
     return work
 
 
@@ -152,7 +138,7 @@ def column(name: str) -> str:
     return f"{name}_target" if name in VALUES else name
 
 
-def sweep(curves: CurveService, body: CharacteristicsSweepRequest) -> dict[str, Any]:
+def sweep(ctx: Context, body: CharacteristicsSweepRequest) -> dict[str, Any]:
     """The sweep's columns: the varied parameters, solved ones, the values, the error of each row.
 
     Each combination is validated and built on its own; the characteristic values of all
@@ -170,7 +156,7 @@ def sweep(curves: CurveService, body: CharacteristicsSweepRequest) -> dict[str, 
             columns[column(name)].append(value)
         try:
             spec = model.model_validate(_with(base, body.curve.type, values))
-            curve = build_curve(spec.type, spec.parameters(), spec.direction, curves.size_limits())  # type: ignore[attr-defined]
+            curve = build_curve(spec.type, spec.parameters(), spec.direction, ctx.curves.size_limits())  # type: ignore[attr-defined]
         except (ValidationError, CamError) as exc:
             for name in solved_names:
                 columns[name].append(np.nan)
@@ -193,30 +179,25 @@ def sweep(curves: CurveService, body: CharacteristicsSweepRequest) -> dict[str, 
             if name not in solved_names or not all(np.isnan(x) for x in column)}
 
 
-router = APIRouter(prefix="/v1/curves", tags=["curves"], route_class=OrjsonRoute)
+CHARTS = (PNG_DRAWING, SVG_DRAWING)
+CSV = csv("characteristics-sweep.csv")
 
 
-@router.post("/characteristics/sweep", operation_id="sweepCurveCharacteristics",
-             response_model=CharacteristicsSweepAnswer,
-             responses={**ERRORS, 200: {"content": {**CSV["content"], **IMAGE_RESPONSE["content"]}}})
-async def sweep_characteristics(
-    body: Annotated[CharacteristicsSweepRequest, Body(openapi_examples=SWEEP_EXAMPLES)], request: Request,
-    service: Annotated[CurveService, Depends(curve_service)], gate: Annotated[WorkGate, Depends(work_gate)],
-    format: Annotated[Literal["json", "csv", "png", "svg"] | None, Query(
-        description="csv: the table; png or svg: the design chart (two parameters: contours of Vm and Am over "
-                    "them, Makino's fig. 3; one: Vm and Am over it)")] = None,
-) -> Response:
-    """Vm, Am±, Jm±, Qm± over every combination of one or two parameters of a makino or universal
-    spec (CSV on ``?format=csv`` or ``Accept: text/csv``; the design chart on ``?format=png|svg``)."""
-    chart = format in ("png", "svg")
-    work = sweep_work(service, body, chart)
-    if chart:
-        assert format is not None
-        image = await gate.run(request, work, lambda: design_chart(sweep(service, body), {column(k): v for k, v in body.vary.items()}, format))
-        return Response(image, media_type=MEDIA_TYPES[format])
-    columns = await gate.run(request, work, sweep, service, body)
-    csv = format == "csv" or (format is None and wants_csv(request))
-    if csv:
+def _answer(ctx: Context, body: CharacteristicsSweepRequest, fmt: Format) -> Table | Payload:
+    """The table (CSV: an empty cell where a row has no error), or the design chart."""
+    columns = sweep(ctx, body)
+    if fmt in CHARTS:
+        return Payload(design_chart(columns, {column(k): v for k, v in body.vary.items()}, fmt.name))
+    if fmt.name == "csv":
         columns["error"] = [text or "" for text in columns["error"]]
-    numeric = tuple(name for name in columns if name != "error")
-    return table_response(columns, csv, filename="characteristics-sweep.csv", allow_null=numeric)
+    return Table(columns, allow_null=tuple(name for name in columns if name != "error"))
+
+
+OPERATIONS = (
+    Operation("sweepCurveCharacteristics", "/v1/curves/characteristics/sweep", "curves", "Sweep Characteristics",
+              "Vm, Am±, Jm±, Qm± over every combination of one or two parameters of a makino or universal spec (CSV "
+              "on ``?format=csv`` or ``Accept: text/csv``; the design chart on ``?format=png|svg``: two parameters, "
+              "contours of Vm and Am over them, Makino's fig. 3; one, Vm and Am over it).",
+              CharacteristicsSweepRequest, _answer, estimate=sweep_work, answer=CharacteristicsSweepAnswer,
+              formats=(JSON, CSV, PNG_DRAWING, SVG_DRAWING), examples=SWEEP_EXAMPLES),
+)

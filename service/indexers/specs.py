@@ -5,9 +5,18 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 from fastapi.openapi.models import Example
-from pydantic import BaseModel, Field, model_validator
+from pydantic import BaseModel, Field, PrivateAttr, model_validator
 
-from camcore.indexer import IndexerPosition, LoadPart, MotionSummary, MotionTable, Sizing, check_timing_frame
+from camcore.indexer import (
+    IndexerPosition,
+    Load,
+    LoadPart,
+    MotionSummary,
+    MotionTable,
+    Motor,
+    Sizing,
+    check_timing_frame,
+)
 from camcore.indexer.checks import check_alternatives, check_speed_alternatives, check_total_indexing_angle
 from service.curves.specs import MS_SPEC, CurveSpec, NamedCurveSpec
 from service.models import answer_model
@@ -143,10 +152,18 @@ class LoadPartSpec(Spec):
     offset_mm: NonNegative = 0.0
     count: Annotated[int, Field(ge=1, le=100_000), JSON_INTEGER] = 1
 
+    _core: LoadPart | None = PrivateAttr(None)
+
     @model_validator(mode="after")
     def _check(self) -> LoadPartSpec:
-        LoadPart(**self.model_dump())  # camcore's rules and sentences (a ValueError: 422)
+        self.core()  # camcore's rules and sentences (a ValueError: 422)
         return self
+
+    def core(self) -> LoadPart:
+        """The part as camcore takes it; made once."""
+        if self._core is None:
+            self._core = LoadPart(**self.model_dump())
+        return self._core
 
 
 class LoadSpec(Spec):
@@ -188,6 +205,11 @@ class LoadSpec(Spec):
             raise ValueError("accuracy_arc_seconds and accuracy_radius_mm go together")
         return self
 
+    def core(self) -> Load:
+        """The load as camcore takes it (its own errors: at the load, where the caller puts it)."""
+        return Load(**self.model_dump(exclude={"parts", "accuracy_arc_seconds", "accuracy_radius_mm"}),
+                    parts=[part.core() for part in self.parts])
+
 
 class MotionRequest(Spec):
     model_config = examples({"indexer": INDEXER_EXAMPLE, "samples": 101})
@@ -215,6 +237,10 @@ class MotorSpec(Spec):
     reduction_ratio: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-3, le=1e5)] = Field(
         1.0, description="i, motor turns per input-shaft turn")
     reduction_efficiency: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=1)] = 1.0
+
+    def core(self) -> Motor:
+        """The motor as camcore takes it."""
+        return Motor(**self.model_dump())
 
 
 class SizingRequest(Spec):

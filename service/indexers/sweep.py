@@ -13,17 +13,15 @@ from camcore.indexer.checks import check_speed_alternatives
 from camcore.indexer.sizing import FIGURE_FIELDS
 from camcore.indexer.sweep import size_sweep
 from camcore.results import answer_fields
-from camcore.work import WorkEstimate, per_item_work
-from service.curves.service import CurveService
+from camcore.work import SIZING_CHART_S, SIZING_SWEEP_ROW_S, WorkEstimate, per_item_work
+from service.context import Context
+from service.curves.library import check_limit
 from service.curves.specs import MS_SPEC, CurveSpec
-from service.indexers.service import IndexerService
+from service.errors import within
+from service.indexers.charts import sweep_chart
 from service.indexers.specs import LOAD_EXAMPLE, LoadSpec, Positive
+from service.operations import JSON, PNG_DRAWING, SVG_DRAWING, Format, Operation, Payload, Table, csv
 from service.specs import JSON_INTEGER, Spec, exactly_one, examples, rule
-
-#: one sized design: measured 34-70 µs per combination (1-4 curves, 500-32 000 rows); ×1.5
-SWEEP_ROW_S = 1.5 * 7e-5
-#: drawing the sweep's chart, up to 16 panels (measured 0.1-0.3 s); ×1.5
-SWEEP_CHART_S = 1.5 * 0.3
 
 SWEEP_EXAMPLE: dict[str, object] = {
     "load": LOAD_EXAMPLE, "stops": [4, 6, 8], "indexing_angle_deg": [120, 180, 270],
@@ -75,25 +73,43 @@ SizingSweepAnswer = create_model(
 SizingSweepAnswer.__module__ = __name__
 
 
-def sweep_work(curves: CurveService, body: SizingSweepRequest, chart: bool = False) -> WorkEstimate:
+CHARTS = (PNG_DRAWING, SVG_DRAWING)
+
+
+def sweep_work(ctx: Context, body: SizingSweepRequest, fmt: Format) -> WorkEstimate:
     """413 over the combination limit; the curves and the rows (and a chart's drawing)."""
-    curves.check_limit("sizing combinations", body.combinations, curves.settings.max_sweep_combinations,
-                       ("stops",))
+    check_limit("sizing combinations", body.combinations, ctx.settings.max_sweep_combinations, ("stops",))
     work = WorkEstimate()
     for i, spec in enumerate(body.curves):
-        work += curves.curve_work(spec, ("curves", i))
-    work += per_item_work(body.combinations, SWEEP_ROW_S, ("stops",), f"{body.combinations} designs")
-    if chart:  # matplotlib: ~0.1-0.3 s for up to 16 panels (measured), ×1.5
-        work += per_item_work(1, SWEEP_CHART_S, ("stops",), "drawing the chart")
+        work += ctx.curves.work(spec.core(), ("curves", i))
+    work += per_item_work(body.combinations, SIZING_SWEEP_ROW_S, ("stops",), f"{body.combinations} designs")
+    if fmt in CHARTS:  # matplotlib: ~0.1-0.3 s for up to 16 panels (measured), ×1.5
+        work += per_item_work(1, SIZING_CHART_S, ("stops",), "drawing the chart")
     return work
 
 
-def sweep(indexers: IndexerService, body: SizingSweepRequest) -> dict[str, Any]:
+def sweep(ctx: Context, body: SizingSweepRequest) -> dict[str, Any]:
     """The sweep's columns."""
-    curves = indexers.curves
-    built = [curves.curve(spec, at=("curves", i)) for i, spec in enumerate(body.curves)]
+    built = [ctx.curves.curve(spec.core(), at=("curves", i)) for i, spec in enumerate(body.curves)]
     names = [str(getattr(spec, "name", None) or getattr(spec, "number", None) or spec.type) for spec in body.curves]
-    load = indexers.core_load(body.load)
+    with within("load"):
+        load = body.load.core()
     with np.errstate(all="ignore"):  # non-finite answers are refused when encoded
         return size_sweep(load, body.stops, body.indexing_angle_deg, built, names, speed_rpm=body.speed_rpm,
                           cycle_time_s=body.cycle_time_s)
+
+
+def _answer(ctx: Context, body: SizingSweepRequest, fmt: Format) -> Table | Payload:
+    """The table, or its chart (drawn in the gate's thread, like the computation)."""
+    if fmt in CHARTS:
+        return Payload(sweep_chart(sweep(ctx, body), fmt.name))
+    return Table(sweep(ctx, body))
+
+
+OPERATIONS = (
+    Operation("sweepIndexerSizing", "/v1/indexers/sizing/sweep", "indexers", "Indexer Sizing Sweep",
+              "Every combination of stops × indexing angles × curves × speeds sized at once (CSV on request, or "
+              "``?format=png|svg``: input torque over speed per curve, a panel per stops and angle).",
+              SizingSweepRequest, _answer, estimate=sweep_work, answer=SizingSweepAnswer,
+              formats=(JSON, csv("sizing-sweep.csv"), PNG_DRAWING, SVG_DRAWING), examples=SWEEP_EXAMPLES),
+)

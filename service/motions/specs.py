@@ -5,13 +5,12 @@ from __future__ import annotations
 from typing import Annotated, Any, ClassVar, Literal
 
 from fastapi.openapi.models import Example
-from pydantic import Field, create_model, model_validator
+from pydantic import Field, PrivateAttr, create_model, model_validator
 
 from camcore.motion import (
     SOLVE,
     SOLVED_PARAMETERS,
     Join,
-    Law,
     MotionCharacteristics,
     MotionSegment,
     MotionTable,
@@ -166,18 +165,23 @@ class MotionSegmentSpec(Spec):
         "acceleration", description="what a polynomial with omitted start/end meets there: s, v, a (quintic) or "
                                     "also j (septic)")
 
+    _core: MotionSegment | None = PrivateAttr(None)
+
     @model_validator(mode="after")
     def _check(self) -> MotionSegmentSpec:
         check_segment(None, self.core())  # camcore's rules and sentences (422)
         return self
 
     def core(self) -> MotionSegment:
-        """The segment as camcore takes it (``to`` given as null: solved)."""
-        to: float | Literal["solve"] | None = self.to
-        if self.to is None and "to" in self.model_fields_set:
-            to = SOLVE
-        law = None if self.curve is None else Law(self.curve.type, self.curve.parameters(), self.curve.direction)
-        return MotionSegment(self.span_deg, to=to, stroke=self.stroke, law=law, type=self.type, match=self.match)
+        """The segment as camcore takes it (``to`` given as null: solved); made once."""
+        if self._core is None:
+            to: float | Literal["solve"] | None = self.to
+            if self.to is None and "to" in self.model_fields_set:
+                to = SOLVE
+            law = None if self.curve is None else self.curve.core()
+            self._core = MotionSegment(self.span_deg, to=to, stroke=self.stroke, law=law, type=self.type,
+                                       match=self.match)
+        return self._core
 
 
 class MotionSpec(Spec):
@@ -191,14 +195,20 @@ class MotionSpec(Spec):
     # no maxItems: the number of segments is a setting (CAMCORE_MAX_MOTION_SEGMENTS, 413)
     segments: list[MotionSegmentSpec] = Field(min_length=1)
 
+    _core: CoreMotionSpec | None = PrivateAttr(None)
+
     def core(self) -> CoreMotionSpec:
-        """The program as camcore takes it."""
-        return CoreMotionSpec([s.core() for s in self.segments], start=self.start, period_deg=self.period_deg,
-                              unit=self.unit)
+        """The program as camcore takes it; made once (from its segments' own)."""
+        if self._core is None:
+            self._core = CoreMotionSpec([s.core() for s in self.segments], start=self.start,
+                                        period_deg=self.period_deg, unit=self.unit)
+        return self._core
 
     @model_validator(mode="after")
     def _check(self) -> MotionSpec:
-        check_program(self.core())  # camcore's rules and sentences (422): here, the spans and the period
+        # camcore's rules and sentences (422): here the spans, the period, the start and the unit; each
+        # segment's own rules were checked by its validator, at its place in the request
+        check_program(self.core(), segments=False)
         return self
 
 

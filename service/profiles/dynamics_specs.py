@@ -124,8 +124,8 @@ class DynamicsRequest(Spec):
             raise ValueError(f"{ROLLER_RULE}, not a {self.profile.follower.type} follower")
         return self
 
-    def load(self) -> FollowerLoad:
-        """The load in camcore's terms (the validator made sure the motion's own fields are given)."""
+    def follower_load(self) -> FollowerLoad:
+        """The follower's load as camcore takes it (the validator made sure the motion's own fields are given)."""
         if self.profile.follower.motion == "oscillating":
             assert self.inertia_kgm2 is not None and self.spring_rate_nm_rad is not None
             return OscillatingLoad(self.inertia_kgm2, self.spring_rate_nm_rad, self.preload_nm or 0.0,

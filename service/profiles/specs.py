@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 from fastapi.openapi.models import Example
-from pydantic import Field, model_validator
+from pydantic import Field, PrivateAttr, model_validator
 
 from camcore.profile import BaseCircleResult, Follower, ProfileChecks
 from camcore.profile.followers import check_follower
@@ -71,13 +71,18 @@ class FollowerSpec(Spec):
     arm_length_mm: PositiveLength | None = Field(None, description="oscillating: pivot to contact")
     pivot_distance_mm: PositiveLength | None = Field(None, description="oscillating: cam centre to pivot")
 
+    _core: Follower | None = PrivateAttr(None)
+
     @model_validator(mode="after")
     def _check(self) -> FollowerSpec:
-        # camcore's rule and sentence (a ValueError: 422)
-        check_follower(Follower(type=self.type, motion=self.motion, offset_mm=self.offset_mm,
-                                roller_radius_mm=self.roller_radius_mm, arm_length_mm=self.arm_length_mm,
-                                pivot_distance_mm=self.pivot_distance_mm))
+        check_follower(self.core())  # camcore's rule and sentence (a ValueError: 422)
         return self
+
+    def core(self) -> Follower:
+        """The follower as camcore takes it; made once."""
+        if self._core is None:
+            self._core = Follower(**self.model_dump())
+        return self._core
 
 
 class SegmentSpec(Spec):

@@ -1,9 +1,7 @@
 """POST /v1/profiles/toolpath: the cutter-centre path of a plate cam as lines and arcs.
 
 ``computeToolpath`` answers JSON (the elements, the measured deviation) or, with the body's
-``format``, a file of :data:`camcore.export.TOOLPATH_FORMATS` (G-code, DXF); each file also
-has an operation of its own (``/toolpath.nc``, ``/toolpath.dxf``) whose only answer is that
-file, for generated clients. :func:`register` adds the routes to the profiles router.
+``format`` (or ``?format=``), a file of :data:`camcore.export.TOOLPATH_FORMATS` (G-code, DXF).
 """
 
 from __future__ import annotations
@@ -11,27 +9,17 @@ from __future__ import annotations
 import math
 from typing import Annotated, Any, Literal
 
-from fastapi import APIRouter, Body, Depends, Request
 from fastapi.openapi.models import Example
 from pydantic import BaseModel, Field, model_validator
-from starlette.responses import Response
 
-from camcore.export import TOOLPATH_FORMATS, FileFormat, ToolpathFile
+from camcore.export import TOOLPATH_FORMATS, ToolpathFile
 from camcore.toolpath import Toolpath, compute_toolpath
-from camcore.work import WorkEstimate, WorkTerm, fit_elements_estimate, fit_work
-from service.admission import WorkGate
-from service.curves.routes import ERRORS
-from service.deps import profile_service, work_gate
-from service.profiles.service import ProfileService
+from camcore.work import ELEMENT_VALUES, WorkEstimate, WorkTerm, encode_cost, fit_elements_estimate, fit_work
+from service.context import Context
+from service.operations import JSON, Alias, Format, Operation, Payload, Raw, download
+from service.profiles.operations import cam, schedule_field, schedule_work, segment_count, strokes_mm
 from service.profiles.specs import ROLLER_PROFILE_EXAMPLE, ProfileSpec
-from service.responses import encode_cost, json_response
 from service.specs import BIG, DefaultsInDescriptions, Spec, examples, one_of_values, rule
-
-Service = Annotated[ProfileService, Depends(profile_service)]
-Gate = Annotated[WorkGate, Depends(work_gate)]
-
-#: numbers of one element in the JSON answer (ends, centre, radius)
-ELEMENT_VALUES = 7
 
 #: a roller follower (the condition of a groove)
 ROLLER = {"properties": {"follower": {"required": ["type"], "properties": {"type": {"const": "roller"}}}},
@@ -142,56 +130,35 @@ class ToolpathAnswer(DefaultsInDescriptions):
     paths: list[CutterPathAnswer]
 
 
-def strokes_mm(spec: ProfileSpec) -> list[float]:
-    """The stroke of each moving segment in mm (a swing as the arc of the arm, or of the
-    pivot distance for a flat face); a lift curve counts as 8 strokes of the base radius, a
-    motion program's move as one (its strokes may be solved, so unknown before it runs)."""
-    if spec.motion is not None:
-        return [spec.base_radius_mm for s in spec.motion.segments if s.type != "dwell"]
-    if spec.segments is None:
-        return [spec.base_radius_mm] * 8
-    arm = spec.follower.arm_length_mm or spec.follower.pivot_distance_mm or 1.0
-    return [s.lift_mm if s.lift_mm is not None else arm * math.radians(s.swing_deg or 0.0)
-            for s in spec.segments if s.type != "dwell"]
-
-
-def schedule(spec: ProfileSpec) -> tuple[int, tuple[str, ...]]:
-    """The lift schedule's segment count (a lift curve: 8) and its request field."""
-    if spec.motion is not None:
-        return len(spec.motion.segments), ("profile", "motion", "segments")
-    if spec.segments is not None:
-        return len(spec.segments), ("profile", "segments")
-    return 8, ("profile", "lift")
-
-
-def toolpath_work(service: ProfileService, body: ToolpathRequest, fmt: str) -> WorkEstimate:
+def toolpath_work(ctx: Context, body: ToolpathRequest, fmt: Format) -> WorkEstimate:
     """The curves, the checks of each wall, the fitted elements and the answer's encoding."""
-    laws, work = service.laws(body.profile)
+    costs, work = schedule_work(ctx, body.profile)
     paths = 2 if body.side == "groove" else 1
-    segments, field = schedule(body.profile)
-    elements = paths * fit_elements_estimate(strokes_mm(body.profile), segments, body.tolerance_mm)
-    work += fit_work(laws, elements, paths, field, ("tolerance_mm",))
-    seconds = TOOLPATH_FORMATS[fmt].cost(elements) if fmt in TOOLPATH_FORMATS else \
+    elements = paths * fit_elements_estimate(strokes_mm(body.profile), segment_count(body.profile), body.tolerance_mm)
+    work += fit_work(costs, elements, paths, schedule_field(body.profile), ("tolerance_mm",))
+    seconds = TOOLPATH_FORMATS[fmt.name].cost(elements) if fmt.name in TOOLPATH_FORMATS else \
         encode_cost(elements * ELEMENT_VALUES, False)
-    return work + WorkEstimate((WorkTerm(("tolerance_mm",), f"writing about {elements} elements as {fmt}", seconds),))
+    return work + WorkEstimate((WorkTerm(("tolerance_mm",), f"writing about {elements} elements as {fmt.name}",
+                                         seconds),))
 
 
-def toolpath(service: ProfileService, body: ToolpathRequest) -> Toolpath:
+def toolpath(ctx: Context, body: ToolpathRequest) -> Toolpath:
     """The fitted paths (413 over the element limit)."""
-    cam = service.cam(body.profile)
-    return compute_toolpath(cam, body.tool_radius_mm, body.tolerance_mm, body.side, body.allow_gouge,
-                            service.curves.settings.max_toolpath_elements)
+    return compute_toolpath(cam(ctx, body.profile), body.tool_radius_mm, body.tolerance_mm, body.side, body.allow_gouge,
+                            ctx.settings.max_toolpath_elements)
 
 
-def toolpath_file(service: ProfileService, body: ToolpathRequest, fmt: str) -> bytes:
-    """The paths written in one of :data:`camcore.export.TOOLPATH_FORMATS`."""
-    item = ToolpathFile(toolpath(service, body), body.feed_mm_min, body.safe_z_mm, body.cut_z_mm, body.lead_in_mm)
-    return TOOLPATH_FORMATS[fmt].write(item)
+def _compute(ctx: Context, body: ToolpathRequest, fmt: Format) -> Raw | Payload:
+    """The JSON answer, or the paths written in one of :data:`camcore.export.TOOLPATH_FORMATS`."""
+    tp = toolpath(ctx, body)
+    if fmt.name in TOOLPATH_FORMATS:
+        item = ToolpathFile(tp, body.feed_mm_min, body.safe_z_mm, body.cut_z_mm, body.lead_in_mm)
+        return Payload(TOOLPATH_FORMATS[fmt.name].write(item))
+    return Raw(toolpath_answer(tp))
 
 
-def toolpath_answer(service: ProfileService, body: ToolpathRequest) -> dict[str, Any]:
+def toolpath_answer(tp: Toolpath) -> dict[str, Any]:
     """The JSON answer: every element of every path, the deviations and counts."""
-    tp = toolpath(service, body)
     paths = []
     for p in tp.paths:
         elements = [{"type": "arc" if e.is_arc else "line", "x0_mm": e.start[0], "y0_mm": e.start[1],
@@ -210,51 +177,11 @@ def toolpath_answer(service: ProfileService, body: ToolpathRequest) -> dict[str,
             "max_deviation_mm": tp.max_deviation_mm, "segments_count": tp.segments_count, "paths": paths}
 
 
-def _content(fmt: FileFormat[Any]) -> dict[str, Any]:
-    schema = {"type": "string"} if fmt.is_text else {"type": "string", "format": "binary"}
-    return {fmt.media_type.split(";")[0]: {"schema": schema}}
-
-
-def _file(payload: bytes, fmt: FileFormat[Any]) -> Response:
-    return Response(payload, media_type=fmt.media_type,
-                    headers={"Content-Disposition": f'attachment; filename="{fmt.file_name}"'})
-
-
-ToolpathBody = Annotated[ToolpathRequest, Body(openapi_examples=TOOLPATH_EXAMPLES)]
-
-
-def register(router: APIRouter) -> None:
-    """Add ``computeToolpath`` and one operation per toolpath file format to ``router``."""
-    answers: dict[str, Any] = {}  # JSON comes from the response model
-    for fmt in TOOLPATH_FORMATS.values():
-        answers |= _content(fmt)
-
-    async def compute(body: ToolpathBody, request: Request, service: Service, gate: Gate) -> Response:
-        work = toolpath_work(service, body, body.format)
-        if body.format in TOOLPATH_FORMATS:
-            fmt = TOOLPATH_FORMATS[body.format]
-            return _file(await gate.run(request, work, toolpath_file, service, body, fmt.name), fmt)
-        return json_response(await gate.run(request, work, toolpath_answer, service, body))
-
-    compute.__doc__ = ("The cutter-centre path of a plate cam (its surface offset by the tool radius) as lines and "
-                       "arcs within tolerance_mm, the deviation measured; JSON, or G-code or DXF with format.")
-    router.add_api_route("/toolpath", compute, methods=["POST"], operation_id="computeToolpath",
-                         response_model=ToolpathAnswer, summary="Compute Toolpath",
-                         responses={**ERRORS, 200: {"content": answers,
-                                                    "description": "The paths as JSON, or the file of format"}})
-    for fmt in TOOLPATH_FORMATS.values():
-        _file_route(router, fmt)
-
-
-def _file_route(router: APIRouter, fmt: FileFormat[ToolpathFile]) -> None:
-    extension = fmt.file_name.rsplit(".", 1)[-1]
-    camel = "".join(part.capitalize() for part in fmt.name.split("-"))
-
-    async def export_toolpath(body: ToolpathBody, request: Request, service: Service, gate: Gate) -> Response:
-        work = toolpath_work(service, body, fmt.name)
-        return _file(await gate.run(request, work, toolpath_file, service, body, fmt.name), fmt)
-
-    export_toolpath.__doc__ = f"The toolpath as {fmt.description} (``computeToolpath`` with format {fmt.name})."
-    router.add_api_route(f"/toolpath.{extension}", export_toolpath, methods=["POST"],
-                         operation_id=f"exportToolpath{camel}", response_class=Response, summary=f"Export Toolpath "
-                         f"{camel}", responses={**ERRORS, 200: {"content": _content(fmt), "description": fmt.description}})
+OPERATIONS = (
+    Operation("computeToolpath", "/v1/profiles/toolpath", "profiles", "Compute Toolpath",
+              "The cutter-centre path of a plate cam (its surface offset by the tool radius) as lines and arcs "
+              "within tolerance_mm, the deviation measured; JSON, or G-code or DXF with format.",
+              ToolpathRequest, _compute, estimate=toolpath_work, answer=ToolpathAnswer,
+              formats=(JSON, *(download(fmt) for fmt in TOOLPATH_FORMATS.values())), body_format="format",
+              examples=TOOLPATH_EXAMPLES, aliases=(Alias("exportToolpathGcode", "/v1/profiles/toolpath.nc", "gcode"),)),
+)

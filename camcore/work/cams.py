@@ -1,0 +1,42 @@
+"""Barrel, parallel and roller-gear cams."""
+
+from __future__ import annotations
+
+#: the barrel checks run 25 extreme searches (pressure angle at three radii, the pitch curve's
+#: curvature both ways, and both ways at 10 radii across the roller) where a plate cam's run 3;
+#: measured (with the local-grid refinement) 40-60 ms for the 4-segment request examples, up to
+#: 12 times the plate checks' estimate of the same segments; ×1.5
+BARREL_CHECKS_FACTOR = 18.0
+#: one sampled angle of a barrel cam (lift, state, columns) measured 1.3 µs, one flank point 0.07 µs; ×1.5
+BARREL_SAMPLE_S = 1.5 * 1.3e-6
+BARREL_FLANK_POINT_S = 1.5 * 1e-7
+#: a barrel cam's columns over the cam angle, and numbers per flank point (x, y, z of two flanks)
+BARREL_COLUMNS = 10
+BARREL_FLANK_VALUES = 6
+
+#: one plate × roller × sampled cam angle of a parallel cam: its path's 8 points, the bands'
+#: union, the contour's vertices put on their rollers and the contacts; measured 0.084-0.14 ms
+#: (4 or 8 rollers, 2 or 3 plates, 121-361 samples); ×1.5
+PLATE_ROLLER_SAMPLE_S = 1.5 * 0.15e-3
+
+#: a roller-gear cam's largest pressure angle refined (both flanks, two radii together) and the
+#: rest of a 2 × 2 grid: measured 2.3 ms (3.8 ms when the radii were refined one after the
+#: other); ×1.5 of 4 ms kept
+RIB_PRESSURE_SEARCH_S = 1.5 * 4e-3
+#: one rib flank point (both flanks: the contact, its derivatives, regularity): median 0.66 µs,
+#: at most 0.86 µs over 9 runs of the largest grid (3601 × 41); ×1.5 of 0.7 µs
+RIB_FLANK_POINT_S = 1.5 * 0.7e-6
+#: one STL facet (the mesh indexed and written): median 0.26 µs, at most 0.54 µs over the same
+#: runs (the 42 MB of vertices allocated afresh each time); ×1.5 of 0.4 µs
+RIB_FACET_S = 1.5 * 0.4e-6
+#: a roller-gear cam's columns over the turn, and numbers per flank point in its JSON answer (x,
+#: y, z, pressure angle and regular of two flanks)
+RIB_COLUMNS = 4
+RIB_FLANK_VALUES = 10
+
+
+def rib_facets(samples: int, length_samples: int) -> int:
+    """Facets of the rib's mesh: two per quad between consecutive cross-section rings, and two
+    caps [-]."""
+    ring = 2 * length_samples
+    return 2 * (samples - 1) * ring + 4 * (length_samples - 1)

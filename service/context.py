@@ -1,0 +1,42 @@
+"""What every operation of one worker shares: its settings, its work gate, its curves and caches.
+
+One :class:`Context` is made by ``create_app`` and kept on ``app.state.context``; each
+operation's functions take it as their first argument (service.operations).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from camcore.profile import ProfileChecks
+from service.admission import WorkGate
+from service.cache import LRUCache
+from service.curves.library import CurveLibrary
+from service.settings import Settings
+
+#: bytes the cached sizing answers may hold (one is ~10 kB with its 181-row torque table)
+SIZING_CACHE_MAX_BYTES = 8 * 1024 * 1024
+
+
+@dataclass
+class Context:
+    """The state of one worker's operations."""
+
+    settings: Settings
+    gate: WorkGate
+    curves: CurveLibrary
+    #: a cam's checks over the whole turn, by its spec (they do not depend on samples or format)
+    profile_checks: LRUCache[ProfileChecks]
+    #: encoded sizing answers by request: a spreadsheet recalculating asks the same again
+    sizings: LRUCache[bytes]
+
+    @classmethod
+    def create(cls, settings: Settings) -> Context:
+        return cls(settings=settings, gate=WorkGate(settings), curves=CurveLibrary(settings),
+                   profile_checks=LRUCache(settings.profile_checks_cache_size),
+                   sizings=LRUCache(settings.sizing_cache_size, SIZING_CACHE_MAX_BYTES))
+
+    def cache_stats(self) -> dict[str, dict[str, int]]:
+        """Every cache's hit and miss counts (the health answer)."""
+        return {**self.curves.cache_stats(), "profile_checks": self.profile_checks.stats(),
+                "sizings": self.sizings.stats()}

@@ -1,1 +1,0 @@
-"""The plots domain of the service: specs, the bridge to camcore, routes."""

@@ -1,1 +1,0 @@
-"""Residual vibration: the spectrum of a curve, an indexer's load, the spectrum chart."""
