@@ -199,7 +199,7 @@ async def _send(app: Any, case: Case, n: int, content: bytes | None = None) -> t
 async def accepted(case: Case, n: int) -> float | None:
     """The estimate [s] when the default settings accept size ``n``; None when refused."""
     app = create_app(Settings())
-    app.state.work_gate = EstimatingGate(app.state.settings)
+    app.state.context.gate = EstimatingGate(app.state.settings)
     log = logging.getLogger("camcore.service")
     log.disabled = True  # the service logs the stop as an unexpected error: expected here
     try:
@@ -235,7 +235,7 @@ async def measure(case: Case, n: int, repeats: int) -> dict[str, Any]:
     for _ in range(repeats):
         app = create_app(Settings())  # cold: nothing cached
         gate = TimingGate(app.state.settings)
-        app.state.work_gate = gate
+        app.state.context.gate = gate
         response, seconds = await _send(app, case, n, content)
         if response.status_code != 200:
             raise RuntimeError(f"{case.name} at {n}: {response.status_code} {response.text[:300]}")

@@ -360,18 +360,20 @@ def direct_answer(req: Req) -> dict[str, list[float]] | None:
     """camcore's own numbers for a JSON table or characteristics request (for --url runs)."""
     import numpy as np
 
-    from service.curves.service import CurveService
+    from camcore.results import as_dict
+    from service.context import Context
+    from service.curves.operations import Sampling, table_columns
     from service.curves.specs import CharacteristicsRequest, TableRequest
     from service.settings import Settings
 
-    service = CurveService(Settings())
+    ctx = Context.create(Settings())
     if req.kind == "table" and not req.csv:
         body = TableRequest.model_validate(req.json)
-        cols = service.table_columns(body.curve, body.samples, body.t)
+        cols = table_columns(ctx, Sampling(body.curve.core(), body.samples, body.t))
         return {k: np.asarray(v).tolist() for k, v in cols.items()}
     if req.kind == "characteristics":
         body2 = CharacteristicsRequest.model_validate(req.json)
-        return dict(service.characteristics(body2.curve))
+        return dict(as_dict(ctx.curves.curve(body2.curve.core()).characteristics))
     return None
 
 

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from camcore.work import WorkEstimate, WorkTerm, chart_s
+from camcore.work import RENDER_S, WorkEstimate, WorkTerm, chart_s
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -39,16 +39,17 @@ class ChartQuery(BaseModel):
     dpi: int = Field(100, ge=50, le=300, description="PNG resolution (the chart is 8 × 8.5 in, or 10 × 6 in)")
 
 
-def chart_work(fmt: str, dpi: int) -> WorkEstimate:
+def chart_work(fmt: str, dpi: int, render_s: float = RENDER_S) -> WorkEstimate:
     """Drawing and encoding one chart (camcore.work.chart_s), at the request's field that drives it."""
     return WorkEstimate((WorkTerm(("dpi",) if fmt == "png" else ("format",), "drawing the chart",
-                                  chart_s(fmt, dpi)),))
+                                  chart_s(fmt, dpi, render_s)),))
 
 
-def figure(width_in: float, height_in: float) -> Figure:
+def figure(width_in: float, height_in: float, layout: str | None = "constrained") -> Figure:
+    """A figure of that size [in]; laid out by matplotlib's constrained layout unless ``layout`` is None."""
     from matplotlib.figure import Figure
 
-    return Figure(figsize=(width_in, height_in), layout="constrained")
+    return Figure(figsize=(width_in, height_in), layout=layout)
 
 
 def render(fig: Figure, fmt: str, dpi: int) -> bytes:

@@ -25,5 +25,5 @@ OPERATIONS = (
     Operation("getHealth", "/health", "service", "Health",
               "Liveness and version, with the caches' hit and miss counts (HEAD: the same without its body, for "
               "load balancers and probes).",
-              None, _health, method="GET", answer=HealthAnswer, head=True),
+              None, _health, method="GET", answer=HealthAnswer, head=True, examples={"probe": {"value": {}}}),
 )

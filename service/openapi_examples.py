@@ -32,6 +32,13 @@ def _models(annotation: Any, seen: dict[str, type[BaseModel]]) -> None:
         _models(arg, seen)
 
 
+def models_of(annotation: Any) -> dict[str, type[BaseModel]]:
+    """Every pydantic model in an annotation and in the fields of those models, by class name."""
+    seen: dict[str, type[BaseModel]] = {}
+    _models(annotation, seen)
+    return seen
+
+
 def restore_examples(document: dict[str, Any], routers: Iterable[APIRouter]) -> None:
     """Put the request examples of ``routers`` back into ``document`` (in place) as written."""
     schemas = document.get("components", {}).get("schemas", {})

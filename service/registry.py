@@ -27,3 +27,11 @@ OPERATIONS: tuple[Operation, ...] = (
     *profiles.OPERATIONS, *toolpath.OPERATIONS, *dynamics.OPERATIONS,
     *barrel.OPERATIONS, *parallel.OPERATIONS, *roller_gear.OPERATIONS,
 )
+
+
+def operation(operation_id: str) -> Operation:
+    """The operation of that id (KeyError: none)."""
+    for op in OPERATIONS:
+        if op.id == operation_id:
+            return op
+    raise KeyError(operation_id)

@@ -8,6 +8,13 @@ ENCODE_S_PER_VALUE = {"json": 1.5 * 2.5e-8, "csv": 1.5 * 2e-7}
 #: the estimate is 0.35 s plus, for PNG, 0.45 s × (dpi/300)², ×1.15
 RENDER_S = 0.35
 PNG_AT_300_DPI_S = 0.45
+#: the residual-vibration spectra (up to 8 traces on a log axis with its minor grid): SVG
+#: 0.36-0.62 s, PNG 0.29-0.59 s (2-5 curves, 101-2001 τ values)
+SPECTRUM_RENDER_S = 0.55
+#: a sizing sweep's chart: 0.06-0.07 s for one panel, 0.43 s for 4, 0.63 s for 9, 1.06 s for 16
+#: (the largest of 3 runs, SVG or PNG, 1 to 4 curves, with fixed margins)
+SWEEP_CHART_S = 0.05
+SWEEP_PANEL_S = 0.065
 
 
 def encode_cost(values: int, csv: bool) -> float:
@@ -32,7 +39,7 @@ def encode_cost(values: int, csv: bool) -> float:
     return values * ENCODE_S_PER_VALUE["csv" if csv else "json"]
 
 
-def chart_s(fmt: str, dpi: int) -> float:
+def chart_s(fmt: str, dpi: int, render_s: float = RENDER_S) -> float:
     """Seconds to draw and encode one chart.
 
     Parameters
@@ -41,6 +48,8 @@ def chart_s(fmt: str, dpi: int) -> float:
         The image format.
     dpi : int
         PNG resolution [1/in].
+    render_s : float
+        The chart's own drawing time at 100 dpi [s] (:data:`RENDER_S`, :data:`SPECTRUM_RENDER_S`).
 
     Returns
     -------
@@ -52,4 +61,14 @@ def chart_s(fmt: str, dpi: int) -> float:
     The measurements beside :data:`RENDER_S`.
     """
     png = PNG_AT_300_DPI_S * (dpi / 300) ** 2 if fmt == "png" else 0.0
-    return 1.15 * (RENDER_S + png)
+    return 1.15 * (render_s + png)
+
+
+def sweep_chart_s(panels: int) -> float:
+    """Seconds to draw a sizing sweep's chart of ``panels`` panels [s] (×1.15, as every chart).
+
+    References
+    ----------
+    The measurements beside :data:`SWEEP_PANEL_S`.
+    """
+    return 1.15 * (SWEEP_CHART_S + SWEEP_PANEL_S * panels)

@@ -19,8 +19,6 @@ PEAKS_S = 1.5 * 4.5e-4
 MOST_PIECES_OF_A_LAW = 9
 #: one sized design of a sweep: measured 34-70 µs per combination (1-4 curves, 500-32 000 rows); ×1.5
 SIZING_SWEEP_ROW_S = 1.5 * 7e-5
-#: drawing the sweep's chart, up to 16 panels (measured 0.1-0.3 s); ×1.5
-SIZING_CHART_S = 1.5 * 0.3
 
 
 def bracketing_points(pieces: int) -> int:

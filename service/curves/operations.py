@@ -9,6 +9,7 @@ work goes through the gate; a large table is streamed.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from contextlib import AbstractContextManager
 from dataclasses import dataclass
 from typing import Annotated, Any, Literal
 
@@ -62,7 +63,7 @@ def _named(name: str, direction: str = "rise") -> Law:
     return Law("named", {"name": name}, direction)
 
 
-def _path_is_the_curve() -> relocate:
+def _path_is_the_curve() -> AbstractContextManager[None]:
     return relocate(("curve",), ("path",))
 
 
@@ -231,6 +232,14 @@ def inverse_columns(ctx: Context, job: Inversion) -> dict[str, np.ndarray]:
     return {"s": s, "t": t, "v": v, "a": a}
 
 
+def _inverse(ctx: Context, job: Inversion, fmt: Format) -> Table:
+    return Table(inverse_columns(ctx, job))
+
+
+def _quick_inverse(ctx: Context, job: Inversion, fmt: Format) -> bool:
+    return is_quick_inverse(ctx, job.law, len(job.s), job.method)
+
+
 class NamedInverseQuery(BaseModel):
     s: QueryNumbers = Field(min_length=1, description="S values: repeat ?s= or separate by commas")
     method: Literal["exact", "table"] = "exact"
@@ -337,11 +346,11 @@ _TABLE_ANSWER = "Columns t, s, v, a, j, q at evenly spaced samples or at given t
 OPERATIONS = (
     Operation("listCurves", "/v1/curves", TAG, "List Curves",
               "The catalog: every named curve with its aliases, source and characteristic values.",
-              None, _catalog, method="GET", answer=CatalogAnswer),
+              None, _catalog, method="GET", answer=CatalogAnswer, examples={"catalog": {"value": {}}}),
     Operation("getCurve", "/v1/curves/{name}", TAG, "Get Curve",
               "One catalog entry, by id, alias or Makino number (case-insensitive).",
               None, _entry, convert=lambda ctx, _, path: path["name"], method="GET", path_parameters=NAME,
-              answer=CatalogEntryAnswer),
+              answer=CatalogEntryAnswer, examples={"MS": {"value": {"name": "MS"}}}),
     Operation("getCurveCharacteristics", "/v1/curves/characteristics", TAG, "Characteristics",
               "Vm, Am±, Jm±, Qm± (and raw A·V extremes) with the T where each occurs.",
               CharacteristicsRequest, _characteristics, convert=lambda ctx, body, path: body.curve.core(),
@@ -354,25 +363,25 @@ OPERATIONS = (
               "The table of a catalog curve, for spreadsheets (``?format=csv``).",
               NamedTableQuery, _table, convert=_named_table, estimate=_table_work, quick=_quick_table,
               cached=_cached_table, answer=CurveTable, formats=(JSON, CSV), method="GET", path_parameters=NAME,
-              located=_path_is_the_curve),
+              located=_path_is_the_curve, examples={"MS": {"value": {"name": "MS", "samples": 11}}}),
     Operation("invertCurve", "/v1/curves/inverse", TAG, "Invert Curve",
               "T (and V, A) where S(T) = s: exact, or the catalog's table interpolation.",
-              InverseRequest, lambda ctx, job, fmt: Table(inverse_columns(ctx, job)), convert=_inverse_request,
-              estimate=_inverse_work, quick=lambda ctx, job, fmt: is_quick_inverse(ctx, job.law, len(job.s), job.method),
+              InverseRequest, _inverse, convert=_inverse_request, estimate=_inverse_work, quick=_quick_inverse,
               answer=InverseTable, formats=(JSON, CSV), examples=INVERSE_EXAMPLES),
     Operation("invertNamedCurve", "/v1/curves/{name}/inverse", TAG, "Invert Named Curve",
               "The inverse lookup of a catalog curve, for spreadsheets (``?s=0.1833&format=csv``).",
-              NamedInverseQuery, lambda ctx, job, fmt: Table(inverse_columns(ctx, job)), convert=_named_inverse,
-              estimate=_inverse_work, quick=lambda ctx, job, fmt: is_quick_inverse(ctx, job.law, len(job.s), job.method),
+              NamedInverseQuery, _inverse, convert=_named_inverse, estimate=_inverse_work, quick=_quick_inverse,
               answer=InverseTable, formats=(JSON, CSV), method="GET", path_parameters=NAME,
-              located=_path_is_the_curve),
+              located=_path_is_the_curve, examples={"guide": {"value": {"name": "MS", "s": "0.1833,0.5"}}}),
     Operation("getCurveValue", "/v1/curves/{name}/value", TAG, "Curve Value",
               "One number for a spreadsheet cell (``=WEBSERVICE(...)``): S, V, A, J or Q at T, or T where S = s "
               "(exact inverse), as ``text/plain``; errors are JSON as everywhere.",
               ValueQuery, _value, convert=_value_request, estimate=_value_work, quick=_quick_value, formats=(TEXT,),
-              method="GET", path_parameters=NAME, located=_path_is_the_curve),
+              method="GET", path_parameters=NAME, located=_path_is_the_curve,
+              examples={"S at T = 0.3": {"value": {"name": "MS", "t": 0.3}},
+                        "T where S = 0.1833": {"value": {"name": "MS", "s": 0.1833}}}),
     Operation("plotCurve", "/v1/curves/{name}/plot", TAG, "Plot Curve",
               "S, V, A, J of a catalog curve over T, characteristic values marked (``?format=png`` for PNG).",
               CurvePlotQuery, _plot, convert=_plot_request, estimate=_plot_work, formats=(SVG, PNG), method="GET",
-              path_parameters=NAME),
+              path_parameters=NAME, examples={"MS": {"value": {"name": "MS", "samples": 101}}}),
 )

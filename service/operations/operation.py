@@ -77,7 +77,8 @@ class Operation:
         The first is the default; each other one has ``?format=``, a twin and maybe Accept.
     method : {"POST", "GET"}
     examples : mapping
-        Request examples of the body (Swagger UI pre-fills the first).
+        Request examples: of the body (POST; Swagger UI pre-fills the first), or of the path and
+        query parameters (GET: each value a mapping of parameter to value).
     path_parameters : mapping
         Each path parameter's annotation (``Annotated[str, Path(...)]``).
     quick : callable or None
@@ -131,6 +132,13 @@ class Operation:
             if fmt.name == name:
                 return fmt
         raise KeyError(name)
+
+    def work(self, ctx: Context, spec: Any, fmt: str | None = None,
+             path_values: Mapping[str, str] | None = None) -> WorkEstimate:
+        """The estimate of a request (a validated spec) in a format (default: the first), as it
+        is admitted: converted, then estimated."""
+        chosen = self.formats[0] if fmt is None else self.format(fmt)
+        return self.estimate(ctx, self.convert(ctx, spec, path_values or {}), chosen)
 
     def twin_id(self, fmt: Format) -> str:
         """The id of the file twin answering ``fmt``: ``computeProfile`` + ``Dxf``."""

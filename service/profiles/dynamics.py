@@ -124,5 +124,7 @@ OPERATIONS = (
     Operation("plotFollowerDynamics", "/v1/profiles/dynamics/plot", "profiles", "Plot Follower Dynamics",
               "Contact force over the cam angle of a rise–dwell–return cam (the fields of plotProfile) with the zero "
               "line, the safety margin and the region where the follower leaves the cam shaded.",
-              DynamicsPlotQuery, _plot, estimate=_plot_work, formats=(SVG, PNG), method="GET"),
+              DynamicsPlotQuery, _plot, estimate=_plot_work, formats=(SVG, PNG), method="GET",
+              examples={"roller": {"value": {"speed_rpm": 600, "mass_kg": 0.5, "spring_rate_n_mm": 2,
+                                             "samples": 101}}}),
 )

@@ -12,6 +12,7 @@ from typing import Any, Literal
 
 import numpy as np
 from fastapi.exceptions import RequestValidationError
+from fastapi.openapi.models import Example
 from pydantic import Field, ValidationError
 
 import camcore
@@ -30,6 +31,7 @@ from camcore.work import (
     encode_cost,
     fit_elements_estimate,
     fit_work,
+    motion_work,
     profile_work,
 )
 from service.context import Context
@@ -76,16 +78,16 @@ def schedule_work(ctx: Context, spec: ProfileSpec) -> tuple[list[LawCost | None]
     """Each segment's law cost, and the work of building the distinct curves (a spec repeated in
     several segments is built once: the curve cache); a motion program's laws, with its solved
     parameters."""
+    costs: list[LawCost | None] = []
     if spec.motion is not None:
         costs, solved = program_costs(ctx, spec.motion.core(), at=("profile", "motion"))
         # the program resolved (no rows: the profile's samples are counted apart)
-        return costs, camcore.work.motion_work(costs, solved, 0, ("profile", "motion", "segments"), ("samples",))
+        return costs, motion_work(costs, solved, 0, ("profile", "motion", "segments"), ("samples",))
     if spec.segments is None:
         assert spec.lift is not None
         law = spec.lift.core()
         cost = ctx.curves.cost(law, at=("profile", "lift"))
         return [cost], ctx.curves.build_work(law, cost, ("profile", "lift"))
-    costs: list[LawCost | None] = []
     built = WorkEstimate()
     seen = set()
     for i, segment in enumerate(spec.segments):
@@ -243,7 +245,7 @@ class SolidRequest(ProfileRequest):
     solid: SolidSpec = Field(description="thickness, bore and tolerance of the solid")
 
 
-SOLID_EXAMPLES = {"roller": {"summary": "the roller-follower cam, 12 mm thick with a 20 mm bore, within 0.01 mm",
+SOLID_EXAMPLES: dict[str, Example] = {"roller": {"summary": "the roller-follower cam, 12 mm thick with a 20 mm bore, within 0.01 mm",
                              "value": {"profile": ROLLER_PROFILE_EXAMPLE, "solid": SOLID_EXAMPLE}}}
 
 
@@ -323,7 +325,8 @@ def plot_profile_spec(q: ProfilePlotQuery) -> ProfileSpec:
 def spans(spec: ProfileSpec) -> list[tuple[str, float, float]]:
     """The schedule's stretches (type, start, end) for a chart."""
     assert spec.segments is not None  # a chart's cam is always a rise-dwell-return schedule
-    out, start = [], 0.0
+    out: list[tuple[str, float, float]] = []
+    start = 0.0
     for seg in spec.segments:
         out.append((seg.type, start, start + seg.angle_deg))
         start += seg.angle_deg
@@ -375,5 +378,6 @@ OPERATIONS = (
               examples=BASE_CIRCLE_EXAMPLES),
     Operation("plotProfile", "/v1/profiles/plot", TAG, "Plot Profile",
               "Contour, base circle, pitch curve (roller) and pressure angle of a rise–dwell–return–dwell cam.",
-              ProfilePlotQuery, _plot, estimate=_plot_work, formats=(SVG, PNG), method="GET"),
+              ProfilePlotQuery, _plot, estimate=_plot_work, formats=(SVG, PNG), method="GET",
+              examples={"roller": {"value": {"samples": 101}}}),
 )

@@ -21,7 +21,9 @@ from camcore.errors import WorkStoppedError
 from camcore.work import WorkEstimate, WorkTerm
 from service.admission import InFlightLimit, WorkGate
 from service.app import create_app
+from service.curves import operations as curve_operations
 from service.errors import ServiceBusyError
+from service.registry import operation
 from service.settings import Settings
 
 pytestmark = pytest.mark.anyio
@@ -73,12 +75,12 @@ def edge(estimate_of: Any, sizes: range) -> int:
 async def test_base_circle_is_refused_just_past_the_budget(app_client: tuple[Any, httpx.AsyncClient],
                                                            no_base_circle_work: list[int]) -> None:
     app, client = app_client
-    from service.profiles.specs import ProfileSpec
+    from service.profiles.specs import BaseCircleRequest
 
     # MS segments are cheap enough that 360 of them (the most a profile takes) fit the budget
     def estimate(n: int) -> float:
-        spec = ProfileSpec.model_validate(cam(n, BEZIER_20))
-        return float(app.state.profile_service.base_circle_work(spec, 30.0, None).seconds)
+        body = BaseCircleRequest.model_validate({"profile": cam(n, BEZIER_20), "max_pressure_angle_deg": 30.0})
+        return float(operation("sizeBaseCircle").work(app.state.context, body).seconds)
 
     n = edge(estimate, range(2, 361))
     assert estimate(n + 1) > estimate(n)  # more segments, more work
@@ -100,11 +102,11 @@ async def test_base_circle_is_refused_just_past_the_budget(app_client: tuple[Any
 async def test_dxf_is_refused_past_the_points_its_writer_can_do_in_budget(
         app_client: tuple[Any, httpx.AsyncClient]) -> None:
     app, client = app_client
-    from service.profiles.specs import ProfileSpec
-    spec = ProfileSpec.model_validate(cam(4))
+    from service.profiles.specs import ProfileRequest
 
     def estimate(samples: int) -> float:
-        return float(app.state.profile_service.profile_work(spec, samples, None, "dxf").seconds)
+        body = ProfileRequest.model_validate({"profile": cam(4), "samples": samples})
+        return float(operation("computeProfile").work(app.state.context, body, "dxf").seconds)
 
     n = edge(estimate, range(1000, 40_001, 1000))
     refused = await client.post("/v1/profiles/contour.dxf", json={"profile": cam(4), "samples": n + 1000})
@@ -139,7 +141,7 @@ async def test_work_past_the_deadline_is_stopped_with_503() -> None:
         # stopped at the first checkpoint after 50 ms: one profile check of 36 segments later
         # (~30 ms), far from the full sizing; generous for a loaded CI machine
         assert elapsed < 0.6
-        assert app.state.work_gate.admitted == 0  # the slot and the queue are free again
+        assert app.state.context.gate.admitted == 0  # the slot and the queue are free again
 
 
 def test_the_deadline_reaches_the_solvers_and_costs_nothing_without_one() -> None:
@@ -301,13 +303,13 @@ async def test_every_answer_says_how_long_the_server_took(app_client: tuple[Any,
     for response in (await client.get("/v1/curves/MS"), await client.get("/v1/curves/no-such-curve"),
                       await client.post("/v1/curves/table", json={"curve": MS, "samples": 1})):
         assert re.fullmatch(r"app;dur=\d+\.\d", response.headers["server-timing"]), response.headers
-    real_table = app_client[0].state.curve_service.table_columns
+    real_table = curve_operations.table_columns
 
     def slow_table(*args: Any) -> Any:
         time.sleep(0.2)
         return real_table(*args)
 
-    monkeypatch.setattr(app_client[0].state.curve_service, "table_columns", slow_table)
+    monkeypatch.setattr(curve_operations, "table_columns", slow_table)
     slow = await client.post("/v1/curves/table", json={"curve": MS, "samples": 11})
     assert slow.status_code == 200
     assert float(slow.headers["server-timing"].split("=")[1]) >= 200  # the 0.2 s of work is in it

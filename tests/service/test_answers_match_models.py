@@ -16,26 +16,14 @@ import httpx
 import pytest
 from fastapi.routing import APIRoute
 
-import service.health as health
 from service.app import create_app
-from service.cams import routes as cams
-from service.curves import routes as curves
-from service.curves import sweep as curve_sweep
-from service.indexers import routes as indexers
-from service.motions import routes as motions
-from service.plots import routes as plots
-from service.profiles import dynamics_routes as dynamics
-from service.profiles import routes as profiles
-from service.vibration import routes as vibration
 
 pytestmark = pytest.mark.anyio
 
 APP = create_app()
 DOC = APP.openapi()
-# the routers' own routes (this FastAPI lists included routers, not their routes, in app.routes)
 ROUTES = {(route.path, method.lower()): route
-          for module in (cams, curves, curve_sweep, dynamics, health, indexers, motions, plots, profiles, vibration)
-          for route in module.router.routes if isinstance(route, APIRoute) for method in route.methods}
+          for route in APP.routes if isinstance(route, APIRoute) for method in route.methods}
 GETS = {
     "/v1/curves": {},
     "/v1/curves/{name}": {},

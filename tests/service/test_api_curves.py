@@ -86,10 +86,10 @@ SPECS = {
 
 
 def direct_curve(spec: dict) -> camcore.Curve:
-    from service.curves.service import CurveService
+    from service.curves.library import CurveLibrary
     from service.curves.specs import TableRequest
 
-    return CurveService(Settings()).curve(TableRequest.model_validate({"curve": spec}).curve)
+    return CurveLibrary(Settings()).curve(TableRequest.model_validate({"curve": spec}).curve.core())
 
 
 @pytest.mark.parametrize("kind", list(SPECS))

@@ -232,7 +232,9 @@ async def test_chart_rules_are_422_with_the_sentence(client: httpx.AsyncClient) 
 async def test_operations_are_in_the_openapi_document(client: httpx.AsyncClient) -> None:
     spec = (await client.get("/openapi.json")).json()
     assert spec["paths"][URL]["post"]["operationId"] == "computeFollowerDynamics"
-    assert spec["paths"][f"{URL}/table.csv"]["post"]["operationId"] == "computeFollowerDynamicsCsv"
+    assert spec["paths"][f"{URL}.csv"]["post"]["operationId"] == "computeFollowerDynamicsCsv"
+    old = spec["paths"][f"{URL}/table.csv"]["post"]  # the path it had before the twins were regular
+    assert old["operationId"] == "computeFollowerDynamicsTableCsv" and old["deprecated"] is True
     plot = spec["paths"][PLOT]["get"]
     assert plot["operationId"] == "plotFollowerDynamics"
     assert set(plot["responses"]["200"]["content"]) == {"image/svg+xml", "image/png"}

@@ -208,14 +208,15 @@ def polynomials(n: int) -> dict[str, Any]:
 
 
 async def test_work_past_the_budget_is_refused_before_any_law_is_built(client: httpx.AsyncClient) -> None:
-    from service.motions.service import MotionService
-    from service.motions.specs import MotionSpec as MotionSpecModel
-    from service.curves.service import CurveService
+    from service.context import Context
+    from service.motions.specs import MotionProgramRequest
+    from service.registry import operation
 
-    service = MotionService(CurveService(Settings()))
+    ctx = Context.create(Settings())
 
     def estimate(n: int) -> float:
-        return float(service.motion_work(MotionSpecModel.model_validate(polynomials(n)), 361, None, None, False).seconds)
+        body = MotionProgramRequest.model_validate({"motion": polynomials(n), "samples": 361})
+        return float(operation("computeMotion").work(ctx, body).seconds)
 
     budget = Settings().max_work_s
     n = max(k for k in range(2, 60) if estimate(k) <= budget)

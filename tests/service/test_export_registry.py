@@ -4,9 +4,7 @@ format is one entry there (issue 14)."""
 
 from __future__ import annotations
 
-import importlib
 import io
-from collections.abc import Iterator
 
 import ezdxf
 import httpx
@@ -64,41 +62,3 @@ def test_the_openapi_document_offers_every_registered_format() -> None:
         schema = content[fmt.media_type.split(";")[0]]["schema"]
         assert schema == ({"type": "string"} if fmt.is_text else {"type": "string", "format": "binary"})
         assert f"`{fmt.name}`" in param["description"] and fmt.description in param["description"]
-
-
-@pytest.fixture
-def extra_format() -> Iterator[export.ContourFormat]:
-    """A format added to the registry, the route module re-imported to read it; both
-    restored afterwards."""
-    import service.profiles.routes as route_module
-
-    def write(c: export.Contour) -> bytes:
-        return b"".join(f"{x!r};{y!r}\n".encode() for x, y in zip(c.x_mm.tolist(), c.y_mm.tolist()))
-
-    fmt = export.ContourFormat("semicolon", "text/x-points; charset=utf-8", "cam.pts", "x;y per line", write,
-                               lambda points: 1e-6 * points)
-    export.FORMATS[fmt.name] = fmt
-    try:
-        importlib.reload(route_module)
-        yield fmt
-    finally:
-        del export.FORMATS[fmt.name]
-        importlib.reload(route_module)
-
-
-@pytest.mark.anyio
-async def test_a_new_format_is_one_registry_entry(extra_format: export.ContourFormat) -> None:
-    app = create_app()
-    async with httpx.AsyncClient(transport=httpx.ASGITransport(app=app), base_url="http://testserver") as client:
-        r = await client.post("/v1/profiles?format=semicolon", json=BODY)
-        assert r.status_code == 200, r.text
-        assert r.headers["content-type"] == "text/x-points; charset=utf-8"
-        assert r.headers["content-disposition"] == 'attachment; filename="cam.pts"'
-        assert r.text.startswith("0.0;40.0\n") and r.text.count("\n") == 37
-    assert "text/x-points" in app.openapi()["paths"]["/v1/profiles"]["post"]["responses"]["200"]["content"]
-
-
-def test_without_the_extra_entry_the_format_is_refused_again() -> None:
-    import service.profiles.routes as route_module
-
-    assert "semicolon" not in export.FORMATS and "semicolon" not in route_module.ProfileFormat.__args__

@@ -19,19 +19,8 @@ import pytest
 from pydantic import BaseModel
 
 from service.app import create_app
-from service.cams import barrel_specs as barrel_schemas
-from service.cams import parallel_specs as parallel_schemas
-from service.cams import roller_gear_specs as roller_gear_schemas
-from service.curves import specs as schemas
-from service.curves import sweep as curve_sweep_schemas
-from service.indexers import specs as indexer_schemas
-from service.indexers import sweep as sweep_schemas
-from service.motions import specs as motion_schemas
-from service.profiles import dynamics_specs as dynamics_schemas
-from service.profiles import solids as solid_schemas
-from service.profiles import specs as profile_schemas
-from service.profiles import toolpath as toolpath_schemas
-from service.vibration import specs as vibration_schemas
+from service.openapi_examples import models_of
+from service.registry import OPERATIONS
 
 pytestmark = pytest.mark.anyio
 
@@ -133,13 +122,12 @@ def request_side_schemas() -> set[str]:
 
 
 def model_classes() -> dict[str, type[BaseModel]]:
+    """Every model a request body of an operation of the registry can hold, by name."""
     out: dict[str, type[BaseModel]] = {}
-    for module in (barrel_schemas, parallel_schemas, roller_gear_schemas, schemas, curve_sweep_schemas,
-                   dynamics_schemas, indexer_schemas, sweep_schemas, motion_schemas, profile_schemas,
-                   vibration_schemas, solid_schemas, toolpath_schemas):
-        for value in vars(module).values():
-            if isinstance(value, type) and issubclass(value, BaseModel):
-                out[value.__name__] = value
+    for operation in OPERATIONS:
+        if operation.method == "POST":
+            for model in (operation.request, *operation.format_requests.values()):
+                out.update(models_of(model))
     return out
 
 
