@@ -14,6 +14,7 @@ For each operation (service.registry.OPERATIONS):
 from __future__ import annotations
 
 import copy
+import gc
 import time
 from collections.abc import Iterator
 from typing import Any
@@ -169,6 +170,8 @@ async def test_a_wrong_field_is_refused_naming_it(client: httpx.AsyncClient, ope
     assert loc[0] == where and [p for p in loc if p in at] == list(at), (at, r.text)
 
 
+#: the least disturbed of this many runs is compared: what else the machine does only adds to a run
+RUNS = 2
 #: work shorter than this is not compared with its estimate: a garbage collection or a first
 #: call into a numpy routine costs a few milliseconds, far below the budget (1 s) and the
 #: inline limit (3 ms) the estimates decide
@@ -184,13 +187,21 @@ def test_the_estimate_bounds_the_work(operation: Operation) -> None:
         spec, path = _spec(operation, fmt)
         operation.compute(warm, operation.convert(warm, spec, path), fmt)
     for fmt in operation.formats:
-        ctx = Context.create(Settings())  # cold caches: every curve is built
-        spec, path = _spec(operation, fmt)
-        core = operation.convert(ctx, spec, path)
-        estimate = operation.estimate(ctx, core, fmt).seconds
-        start = time.perf_counter()
-        operation.compute(ctx, core, fmt)
-        seconds = time.perf_counter() - start
+        runs = []
+        for _ in range(RUNS):
+            ctx = Context.create(Settings())  # cold caches: every curve is built
+            spec, path = _spec(operation, fmt)
+            core = operation.convert(ctx, spec, path)
+            estimate = operation.estimate(ctx, core, fmt).seconds
+            gc.collect()
+            gc.disable()  # a collection of the objects earlier tests left is not this operation's work
+            try:
+                start = time.perf_counter()
+                operation.compute(ctx, core, fmt)
+                runs.append(time.perf_counter() - start)
+            finally:
+                gc.enable()
+        seconds = min(runs)
         assert seconds <= max(estimate, NOISE_S), f"{operation.id} as {fmt.name}: {seconds:.4f} s, estimated {estimate:.4f} s"
 
 
