@@ -45,7 +45,7 @@ def chart_work(fmt: str, dpi: int, render_s: float = RENDER_S) -> WorkEstimate:
                                   chart_s(fmt, dpi, render_s)),))
 
 
-def figure(width_in: float, height_in: float, layout: str | None = "constrained") -> Figure:
+def figure(width_in: float, height_in: float, layout: Literal["constrained"] | None = "constrained") -> Figure:
     """A figure of that size [in]; laid out by matplotlib's constrained layout unless ``layout`` is None."""
     from matplotlib.figure import Figure
 

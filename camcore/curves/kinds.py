@@ -77,9 +77,33 @@ class LawCost:
 
 
 @dataclass(frozen=True)
+class Parameter:
+    """One parameter of a kind as a request states it: what a service makes its field from
+    when the kind has no spec of its own (service.curves.specs).
+
+    ``type`` is ``float``, ``int`` or ``list`` (of floats); the bounds are inclusive
+    (``minimum``, ``maximum``) or not (``above``, ``below``); without a ``default`` the
+    parameter is required."""
+
+    name: str
+    type: type
+    description: str
+    default: Any = None
+    required: bool = True
+    minimum: float | None = None
+    maximum: float | None = None
+    above: float | None = None
+    below: float | None = None
+
+
+@dataclass(frozen=True)
 class CurveKind:
     """One kind of curve spec: its builder, the parameters it takes, its size limit and
-    its cost (a function of the parameters, known before anything is built)."""
+    its cost (a function of the parameters, known before anything is built).
+
+    ``fields`` declares the parameters' types and bounds and ``example`` one valid set of
+    them, for a kind that a service serves without a spec written for it: a new law is its
+    module and this entry."""
 
     name: str
     description: str
@@ -87,6 +111,8 @@ class CurveKind:
     parameters: tuple[str, ...]
     cost: Callable[[Mapping[str, Any]], LawCost]
     limit: SizeLimit | None = None
+    fields: tuple[Parameter, ...] = ()
+    example: Mapping[str, Any] = field(default_factory=dict)
 
 
 # Measured one at a time, best of 3 (camcore.work's reference machine), times 1.5 for a

@@ -4,7 +4,7 @@ answers."""
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Annotated, Any, ClassVar, Literal
+from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal, Union
 
 from fastapi.openapi.models import Example
 from pydantic import BaseModel, Field, GetJsonSchemaHandler, PrivateAttr, create_model, model_validator
@@ -12,7 +12,7 @@ from pydantic.json_schema import JsonSchemaValue
 from pydantic_core import CoreSchema
 
 from camcore.curves import Characteristics, Law
-from camcore.curves.kinds import POLYNOMIAL_NAMES
+from camcore.curves.kinds import CURVE_KINDS, POLYNOMIAL_NAMES, CurveKind, Parameter
 from camcore.curves.makino import MAKINO_BREAK_POINTS, MAKINO_SPECIAL, check_makino_parameters
 from camcore.curves.polynomial import check_choice
 from camcore.curves.targets import TARGETS, curve_4_vm_range, solve_targets
@@ -32,6 +32,9 @@ class CurveKindSpec(Spec):
     fields (but ``direction``) are that kind's parameters."""
 
     _law: Law | None = PrivateAttr(None)
+    if TYPE_CHECKING:  # every kind's spec has them (its tag, and the direction)
+        type: str
+        direction: Direction
 
     @classmethod
     def __get_pydantic_json_schema__(cls, core_schema: CoreSchema, handler: GetJsonSchemaHandler) -> JsonSchemaValue:
@@ -51,7 +54,7 @@ class CurveKindSpec(Spec):
     def core(self) -> Law:
         """The spec in camcore's terms (made once: specs are not changed after validation)."""
         if self._law is None:
-            self._law = Law(self.type, self.parameters(), self.direction)  # type: ignore[attr-defined]
+            self._law = Law(self.type, self.parameters(), self.direction)
         return self._law
 
 
@@ -246,10 +249,55 @@ class PointsCurveSpec(CurveKindSpec):
         return self
 
 
-CurveSpec = Annotated[
-    NamedCurveSpec | MakinoCurveSpec | UniversalCurveSpec | PolynomialCurveSpec | BezierCurveSpec | PointsCurveSpec,
-    Field(discriminator="type"),
-]
+# ----------------------------------------------------------------------------- one spec per kind
+#: the kinds whose spec is written here (their rules need more than bounds on each parameter)
+WRITTEN_SPECS: dict[str, type[CurveKindSpec]] = {
+    "named": NamedCurveSpec, "makino": MakinoCurveSpec, "universal": UniversalCurveSpec,
+    "polynomial": PolynomialCurveSpec, "bezier": BezierCurveSpec, "points": PointsCurveSpec}
+
+
+def _field(parameter: Parameter) -> tuple[Any, Any]:
+    """A pydantic field from a kind's declared parameter (camcore.curves.kinds.Parameter)."""
+    given = {"ge": parameter.minimum, "le": parameter.maximum, "gt": parameter.above, "lt": parameter.below}
+    bounds: dict[str, Any] = {k: v for k, v in given.items() if v is not None}
+    if parameter.type is int:
+        annotation: Any = Annotated[int, Field(**bounds), JSON_INTEGER]
+    elif parameter.type is list:
+        annotation = list[Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BIG)]]
+    else:
+        annotation = Annotated[float, Field(strict=True, allow_inf_nan=False, **{"ge": -BIG, "le": BIG, **bounds})]
+    if parameter.required:
+        return annotation, Field(description=parameter.description)
+    return annotation | None, Field(parameter.default, description=parameter.description)
+
+
+def kind_spec(kind: CurveKind) -> type[CurveKindSpec]:
+    """The spec of a kind: written here, or made from the kind's declared parameters (a new law
+    is then served by every operation that takes a curve with no line of the service changed)."""
+    if kind.name in WRITTEN_SPECS:
+        return WRITTEN_SPECS[kind.name]
+    camel = "".join(part.capitalize() for part in kind.name.replace("_", "-").split("-"))
+    fields: dict[str, Any] = {"type": (Literal[kind.name], kind.name), **{p.name: _field(p) for p in kind.fields},
+                              "direction": (Direction, "rise")}
+    model = create_model(f"{camel}CurveSpec", __base__=CurveKindSpec, __doc__=kind.description, **fields)
+    model.model_config.update(examples({"type": kind.name, **kind.example}))
+    model.model_rebuild(force=True)
+    model.__module__ = __name__
+    return model
+
+
+def curve_spec_union(specs: dict[str, type[CurveKindSpec]]) -> Any:
+    """The request field of a curve: one of the kinds' specs, chosen by ``type``."""
+    return Annotated[Union[tuple(specs.values())], Field(discriminator="type")]  # noqa: UP007  # made at run time
+
+
+#: every kind of CURVE_KINDS, by name
+KIND_SPECS: dict[str, type[CurveKindSpec]] = {name: kind_spec(kind) for name, kind in CURVE_KINDS.items()}
+
+if TYPE_CHECKING:  # a type checker sees the base of the kinds' specs
+    CurveSpec = Annotated[CurveKindSpec, Field(discriminator="type")]
+else:
+    CurveSpec = curve_spec_union(KIND_SPECS)
 
 
 # ----------------------------------------------------------------------------- curve requests

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Any, ClassVar, Literal
+from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal
 
 from fastapi.openapi.models import Example
 from pydantic import Field, PrivateAttr, create_model, model_validator
@@ -20,13 +20,14 @@ from camcore.motion import (
 )
 from camcore.motion import MotionSpec as CoreMotionSpec
 from service.curves.specs import (
-    BezierCurveSpec,
+    KIND_SPECS,
     BoundaryConditions,
+    CurveKindSpec,
+    CurveSpec,
     MakinoCurveSpec,
-    NamedCurveSpec,
-    PointsCurveSpec,
     PolynomialCurveSpec,
     UniversalCurveSpec,
+    curve_spec_union,
     makino_rules,
 )
 from service.models import answer_model
@@ -114,11 +115,16 @@ class ProgramPolynomialSpec(PolynomialCurveSpec):
         return self
 
 
-ProgramCurveSpec = Annotated[
-    NamedCurveSpec | ProgramMakinoSpec | ProgramUniversalSpec | ProgramPolynomialSpec | BezierCurveSpec
-    | PointsCurveSpec,
-    Field(discriminator="type"),
-]
+#: what a program may leave out of a law to match or solve it (camcore.motion.laws.law_role)
+PROGRAM_VARIANTS: dict[str, type[CurveKindSpec]] = {
+    "makino": ProgramMakinoSpec, "universal": ProgramUniversalSpec, "polynomial": ProgramPolynomialSpec}
+#: every kind of CURVE_KINDS, as a program takes it
+PROGRAM_SPECS = {name: PROGRAM_VARIANTS.get(name, spec) for name, spec in KIND_SPECS.items()}
+
+if TYPE_CHECKING:  # a type checker sees the base of the kinds' specs
+    ProgramCurveSpec = CurveSpec
+else:
+    ProgramCurveSpec = curve_spec_union(PROGRAM_SPECS)
 
 DWELL = one_of_values("type", "dwell")
 MOVE = one_of_values("type", "move", default="move")
