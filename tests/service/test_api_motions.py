@@ -228,3 +228,35 @@ async def test_work_past_the_budget_is_refused_before_any_law_is_built(client: h
     accepted = await client.post("/v1/motions", json={"motion": polynomials(n)})
     assert accepted.status_code == 200, accepted.text
     assert all(j["continuity"] in ("C2", "C3") for j in accepted.json()["joins"])
+
+
+async def test_one_request_builds_its_core_spec_once(client: httpx.AsyncClient, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The spec is converted to camcore's terms once per request and every step (the rules, the
+    estimate, the resolution) reads that one: the program and each segment are built once, and a
+    segment's rules are checked once by the spec and once more by camcore's resolver (which checks
+    its own input)."""
+    import camcore.motion.spec as core_spec
+    import service.motions.specs as motion_specs
+
+    built = {"programs": 0, "segments": 0, "checks": 0}
+
+    def counted(kind: str, make: Any) -> Any:
+        def build(*args: Any, **kwargs: Any) -> Any:
+            built[kind] += 1
+            return make(*args, **kwargs)
+        return build
+
+    real_check = core_spec.check_segment
+
+    def counted_check(*args: Any) -> None:
+        built["checks"] += 1
+        real_check(*args)
+
+    monkeypatch.setattr(motion_specs, "CoreMotionSpec", counted("programs", core_spec.MotionSpec))
+    monkeypatch.setattr(motion_specs, "MotionSegment", counted("segments", core_spec.MotionSegment))
+    monkeypatch.setattr(motion_specs, "check_segment", counted_check)
+    monkeypatch.setattr(core_spec, "check_segment", counted_check)
+    segments = len(MAKINO_CYCLE["segments"])
+    r = await client.post("/v1/motions", json={"motion": MAKINO_CYCLE, "samples": 361})
+    assert r.status_code == 200, r.text
+    assert built == {"programs": 1, "segments": segments, "checks": 2 * segments}

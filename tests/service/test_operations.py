@@ -6,7 +6,8 @@ For each operation (service.registry.OPERATIONS):
 - it has a request example, and each example answers 200;
 - it answers its first example in every format it declares, by ``?format=``, by its file twin
   ``{path}.{format}``, by each alias, and by ``Accept`` where the format takes it, each time with
-  the media type the document declares for that route (and only that one for a twin);
+  the media type the document declares for that route (and only that one for a twin), in bytes
+  the reader of that media type takes back (tests/readers.py);
 - a request it cannot take is refused with a 4xx whose ``loc`` names the field;
 - its estimate bounds the work it then does (cold caches, warm imports).
 """
@@ -28,6 +29,7 @@ from service.operations import Format, Operation
 from service.operations.factory import Route, routes_of
 from service.registry import OPERATIONS
 from service.settings import Settings
+from tests.readers import read
 
 pytestmark = pytest.mark.anyio
 
@@ -120,6 +122,7 @@ async def test_every_format_answers_its_declared_media_type(client: httpx.AsyncC
         assert list(content) == [answered]  # a twin or an alias answers its one file
     if fmt.file_name is not None:
         assert fmt.file_name in r.headers["content-disposition"]
+    assert read(answered, r.content), "its reader found nothing in it"  # a second program takes it back
 
 
 def _first_leaf(value: Any, kind: type | tuple[type, ...], at: tuple[str | int, ...] = ()
