@@ -6,7 +6,10 @@
 VENV ?= .venv
 PY := $(VENV)/bin/python
 
-.PHONY: serve test test-tools lint bench openapi
+.PHONY: serve test test-fast test-tools lint bench openapi
+
+# the quick tier: no external program (Chromium, LibreOffice, node, wrk) and no fuzz or property run
+FAST_TESTS := not (chromium or libreoffice or node or wrk or fuzz or property)
 
 $(VENV)/.installed: requirements.lock requirements-dev.lock pyproject.toml
 	python3 -m venv $(VENV)
@@ -28,6 +31,9 @@ lint: $(VENV)/.installed
 
 test: test-tools $(VENV)/.installed lint
 	$(PY) -m pytest
+
+test-fast: $(VENV)/.installed
+	$(PY) -m pytest -m "$(FAST_TESTS)"
 
 bench: $(VENV)/.installed
 	$(PY) -m bench

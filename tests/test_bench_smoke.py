@@ -20,6 +20,7 @@ FIGURES = {
 }
 
 
+@pytest.mark.wrk
 def test_bench_smoke_reports_every_figure() -> None:
     # the HTTP figures need wrk; make test installs it (scripts/install_test_tools.sh)
     assert shutil.which("wrk"), "wrk is missing: make test installs it (apt-get install wrk)"

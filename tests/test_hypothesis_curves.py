@@ -40,6 +40,8 @@ from hypothesis import strategies as st
 import camcore
 from camcore.curves.universal import UniversalCurve
 
+pytestmark = pytest.mark.property
+
 EXAMPLES = int(os.environ.get("HYPOTHESIS_CURVE_EXAMPLES", "60"))
 SETTINGS = settings(max_examples=EXAMPLES, deadline=None)
 

@@ -16,11 +16,15 @@ splines of spans 1:100 it can miss 1e-9 of the peak jerk, so C3 is not asserted 
 
 from __future__ import annotations
 
+import pytest
+
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from camcore.motion import Law, MotionSegment, MotionSpec, resolve_motion
+
+pytestmark = pytest.mark.property
 
 KINDS = ["quintic", "septic", "dwell", "cycloid"]
 

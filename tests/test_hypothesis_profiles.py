@@ -8,6 +8,8 @@ For random rise/dwell/return/dwell schedules, laws, lifts, base radii and follow
 
 from __future__ import annotations
 
+import pytest
+
 import math
 
 import numpy as np
@@ -16,6 +18,8 @@ from hypothesis import strategies as st
 
 import camcore
 from camcore import profile as P
+
+pytestmark = pytest.mark.property
 
 #: laws with continuous acceleration, so the surface curvature is continuous everywhere
 LAWS = ["MS", "cycloid", "MT", "3-4-5", "4-5-6-7", "MCV50"]

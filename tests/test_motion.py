@@ -181,6 +181,7 @@ def matched_programs(draw: st.DrawFn) -> MotionSpec:
     return MotionSpec(segments)
 
 
+@pytest.mark.property
 @settings(max_examples=200, deadline=None, derandomize=True, database=None)
 @given(spec=matched_programs())
 def test_random_programs_of_matched_polynomials_are_c2_and_close(spec: MotionSpec) -> None:

@@ -21,7 +21,7 @@ import pytest
 import camcore
 from tests.libreoffice import UPDATE_LINKS_ALWAYS, configure, convert, run_basic, trusted_location
 
-pytestmark = pytest.mark.e2e
+pytestmark = [pytest.mark.e2e, pytest.mark.libreoffice]
 
 MS = camcore.named_curve("MS")
 NS = {"table": "urn:oasis:names:tc:opendocument:xmlns:table:1.0",

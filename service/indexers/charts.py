@@ -53,6 +53,13 @@ def indexer_chart(table: dict[str, np.ndarray], summary: dict[str, Any], title: 
 MAX_PANELS = 16
 
 
+def check_panels(count: int) -> None:
+    """A sweep's chart draws one panel per stops and indexing angle, at most :data:`MAX_PANELS`."""
+    if count > MAX_PANELS:
+        raise InvalidParameterError(f"the chart draws one panel per stops and indexing angle: at most {MAX_PANELS}, "
+                                    f"not {count}; ask for fewer, or for the table (JSON or CSV).", field=("stops",))
+
+
 def sweep_chart(columns: dict[str, Any], fmt: str, dpi: int = 100) -> bytes:
     """Input torque (service-factored peak) over input speed per curve, a panel per (n, θh)."""
     stops = np.asarray(columns["stops"])
@@ -62,10 +69,7 @@ def sweep_chart(columns: dict[str, Any], fmt: str, dpi: int = 100) -> bytes:
     catalog = np.asarray(columns["input_torque_catalog_nm"])
     curves = list(dict.fromkeys(columns["curve"]))
     panels = list(dict.fromkeys(zip(stops.tolist(), angles.tolist())))
-    if len(panels) > MAX_PANELS:
-        raise InvalidParameterError(f"the chart draws one panel per stops and indexing angle: at most {MAX_PANELS}, "
-                                    f"not {len(panels)}; ask for fewer, or for the table (JSON or CSV).",
-                                    field=("stops",))
+    check_panels(len(panels))
     cols = min(len(panels), 3)
     rows = math.ceil(len(panels) / cols)
     width, height = 4.0 * cols + 1.0, 3.2 * rows + 0.6

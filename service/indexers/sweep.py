@@ -18,7 +18,7 @@ from service.context import Context
 from service.curves.library import check_limit
 from service.curves.specs import MS_SPEC, CurveSpec
 from service.errors import within
-from service.indexers.charts import sweep_chart
+from service.indexers.charts import check_panels, sweep_chart
 from service.indexers.specs import LOAD_EXAMPLE, LoadSpec, Positive
 from service.operations import JSON, PNG_DRAWING, SVG_DRAWING, Format, Operation, Payload, Table, csv
 from service.specs import JSON_INTEGER, Spec, exactly_one, examples, rule
@@ -85,6 +85,7 @@ def sweep_work(ctx: Context, body: SizingSweepRequest, fmt: Format) -> WorkEstim
     work += per_item_work(body.combinations, SIZING_SWEEP_ROW_S, ("stops",), f"{body.combinations} designs")
     if fmt in CHARTS:  # a panel per stops and indexing angle
         panels = len(set(body.stops)) * len(set(body.indexing_angle_deg))
+        check_panels(panels)  # 422 before the budget's 413: the chart cannot be drawn at any budget
         work += per_item_work(1, sweep_chart_s(panels), ("stops",), f"drawing the chart of {panels} panels")
     return work
 

@@ -182,6 +182,7 @@ def programs(draw: st.DrawFn) -> dict[str, Any]:
             "samples": 7, "speed_rpm": draw(st.sampled_from([None, 1e-6, 60.0, 1e6]))}
 
 
+@pytest.mark.property
 @settings(max_examples=150, deadline=None, derandomize=True, database=None,
           suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
 @given(body=programs())

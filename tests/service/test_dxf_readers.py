@@ -77,6 +77,7 @@ async def test_dxf_header_has_the_drawing_extents_units_and_view(client: httpx.A
         assert np.all(np.asarray(box.extmax)[:2] <= hi + slack), entity.dxftype()
 
 
+@pytest.mark.libreoffice
 async def test_libreoffice_draws_the_cam(client: httpx.AsyncClient, tmp_path: Path) -> None:
     content, x, y = await _cam(client)
     source = tmp_path / "cam.dxf"

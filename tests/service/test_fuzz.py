@@ -51,6 +51,8 @@ from schemathesis.specs.openapi.checks import (
 import camcore
 from service.app import create_app
 
+pytestmark = pytest.mark.fuzz
+
 MAX_EXAMPLES = int(os.environ.get("CAMCORE_FUZZ_EXAMPLES", "25"))
 REPORT = os.environ.get("CAMCORE_FUZZ_REPORT")
 

@@ -704,6 +704,7 @@ async def test_a_vanishing_rotation_ratio_is_a_4xx() -> None:
     assert "raise rotation_ratio" in response.text
 
 
+@pytest.mark.fuzz
 @pytest.mark.parametrize("path", PATHS)
 async def test_generated_valid_bodies_are_accepted(path: str) -> None:
     refused: list[str] = []
