@@ -10,7 +10,7 @@ took. One JSON object on stdout; the figures go in docs/robustness.md.
 
 A figure, not a test: the worst case per endpoint depends on the machine (the reference
 is the 2-core machine the coefficients were measured on). ``--smoke`` runs every case
-once at small sizes (tests/test_bench_smoke.py runs it: it must run, not meet targets).
+once at small sizes (tests/project/test_bench_smoke.py runs it: it must run, not meet targets).
 """
 
 from __future__ import annotations

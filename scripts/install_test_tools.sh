@@ -4,8 +4,8 @@
 # milliseconds and installs nothing.
 #   Debian packages (apt-get, as root):
 #     python3-venv                          python3 -m venv (Debian ships ensurepip apart)
-#     chromium                              tests/test_browser_docs.py: /docs and /redoc offline
-#     wrk                                   tests/test_bench_smoke.py: the HTTP figures
+#     chromium                              tests/clients/test_browser_docs.py: /docs and /redoc offline
+#     wrk                                   tests/project/test_bench_smoke.py: the HTTP figures
 #     libreoffice-draw-nogui, -calc-nogui   soffice --headless: Draw renders our DXF, Calc a sheet
 #     nodejs, npm                           the TypeScript client test (only with clients/typescript)
 #     libgl1, libx11-6                      the CAD kernel (cadquery-ocp-novtk) loads libGL and libX11

@@ -36,7 +36,7 @@ _BRACKET_SAMPLES = 257
 
 #: roots refined one by one on a curve's scalar formulas (:meth:`PiecewiseCurve.eval_point`)
 #: up to this many, where the array loop's fixed cost per operation is most of its work;
-#: both give the same numbers (tests/test_characteristics_batch.py)
+#: both give the same numbers (tests/camcore/curves/test_batch.py)
 _POINT_NEWTON_MAX = 16
 
 

@@ -67,7 +67,7 @@ def half_angle_bases(half_angle: FloatArray) -> tuple[FloatArray, FloatArray]:
     q = u/(1 + u²), r = u²/(1 + u²); so sin θ = 2q, 1 − cos θ = 2r, cos θ = 1 − 2r.
     numpy's float64 tan is vectorised (SIMD) where sin and cos are not: one tan and four
     array passes cost a fraction of sin plus cos. sin and cos come out within a few ulp
-    (measured against mpmath in tests/test_sections.py), and r keeps its relative
+    (measured against mpmath in tests/camcore/curves/test_sections.py), and r keeps its relative
     accuracy at small θ, where 1 − cos θ computed as a difference loses it. Near θ = π,
     u ≈ 1e16 and the formulas still give q ≈ 1/u, r = 1.
 

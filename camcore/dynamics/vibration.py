@@ -6,7 +6,7 @@ gives the model and the method). Over τ = th·fn (the motion time over the natu
 two numbers tell how well a curve suits a flexible follower: the *residual amplitude*, the
 amplitude of the free vibration left when the motion ends, √(x² + ((ẋ + ζωx)/ωd)²)/h at
 t = th; and the *peak deviation*, max |x|/h during the motion. Both are computed to 1e-9
-(to ~1e-13 in practice, tests/test_vibration.py compares them with an independent
+(to ~1e-13 in practice, tests/camcore/dynamics/test_vibration.py compares them with an independent
 integration of the equation); they are dimensionless (fractions of the stroke h).
 
 Known values: the undamped cycloid leaves 0.5 at τ = 1 and nothing at every integer τ ≥ 2

@@ -47,7 +47,7 @@ def chart_s(fmt: str, dpi: int, render_s: float = RENDER_S) -> float:
     fmt : {"svg", "png"}
         The image format.
     dpi : int
-        PNG resolution [1/in].
+        PNG resolution, in dots per inch [-].
     render_s : float
         The chart's own drawing time at 100 dpi [s] (:data:`RENDER_S`, :data:`SPECTRUM_RENDER_S`).
 
@@ -65,7 +65,17 @@ def chart_s(fmt: str, dpi: int, render_s: float = RENDER_S) -> float:
 
 
 def sweep_chart_s(panels: int) -> float:
-    """Seconds to draw a sizing sweep's chart of ``panels`` panels [s] (×1.15, as every chart).
+    """Seconds to draw a sizing sweep's chart (×1.15, as every chart).
+
+    Parameters
+    ----------
+    panels : int
+        Panels of the chart, one per stops and indexing angle [-].
+
+    Returns
+    -------
+    float
+        [s].
 
     References
     ----------

@@ -36,7 +36,24 @@ RIB_FLANK_VALUES = 10
 
 
 def rib_facets(samples: int, length_samples: int) -> int:
-    """Facets of the rib's mesh: two per quad between consecutive cross-section rings, and two
-    caps [-]."""
+    """Facets of a roller-gear rib's mesh: two per quad between consecutive cross-section
+    rings, and two caps.
+
+    Parameters
+    ----------
+    samples : int
+        Cam angles sampled (the rings) [-].
+    length_samples : int
+        Points along the roller on each flank [-].
+
+    Returns
+    -------
+    int
+        Facets [-].
+
+    References
+    ----------
+    camcore.cams.roller_gear.compute (rib_triangles: the mesh this counts).
+    """
     ring = 2 * length_samples
     return 2 * (samples - 1) * ring + 4 * (length_samples - 1)

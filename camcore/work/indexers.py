@@ -22,16 +22,63 @@ SIZING_SWEEP_ROW_S = 1.5 * 7e-5
 
 
 def bracketing_points(pieces: int) -> int:
-    """Points of camcore.curves.extrema's bracketing grid over a law of ``pieces`` pieces [-]."""
+    """Points of the bracketing grid over a law.
+
+    Parameters
+    ----------
+    pieces : int
+        Smooth pieces of the law [-].
+
+    Returns
+    -------
+    int
+        Grid points [-].
+
+    References
+    ----------
+    camcore.curves.extrema (the grid it brackets every extreme on).
+    """
     return min(pieces * 257, 2**18 + 17 * pieces)
 
 
 def peaks_s(pieces: int, sample_s: float) -> float:
-    """Seconds to find the exact torque peaks of a law of ``pieces`` pieces evaluated at
-    ``sample_s`` seconds a time (V, A, J at every point of the bracketing grid)."""
+    """Seconds to find the exact torque peaks of a law: V, A and J at every point of its
+    bracketing grid, then Newton on the brackets.
+
+    Parameters
+    ----------
+    pieces : int
+        Smooth pieces of the law [-].
+    sample_s : float
+        The law's cost per evaluated time [s].
+
+    Returns
+    -------
+    float
+        [s].
+
+    References
+    ----------
+    The measurements beside :data:`PEAKS_S`.
+    """
     return PEAKS_S + 1.5 * 3 * bracketing_points(pieces) * sample_s
 
 
 def rms_s(pieces: int) -> float:
-    """Seconds of one RMS integral over a law of ``pieces`` pieces."""
+    """Seconds of one RMS integral of the input torque over a law.
+
+    Parameters
+    ----------
+    pieces : int
+        Smooth pieces of the law [-].
+
+    Returns
+    -------
+    float
+        [s].
+
+    References
+    ----------
+    The measurements beside :data:`RMS_INTEGRAL_S`.
+    """
     return RMS_INTEGRAL_S + RMS_PER_PIECE_S * pieces

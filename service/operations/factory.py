@@ -155,7 +155,7 @@ def _parameters(route: Route) -> list[inspect.Parameter]:
         names = tuple(fmt.name for fmt in operation.formats)
         params.append(inspect.Parameter(
             "format", keyword, default=None,
-            annotation=Annotated[Literal[names] | None, Query(description=_format_help(operation.formats))]))
+            annotation=Annotated[Literal[names], Query(description=_format_help(operation.formats))]))
     return params
 
 

@@ -38,7 +38,7 @@ def test_live_server_resolves_makino_s_cutting_cycle(base_url: str) -> None:
         r = client.post("/v1/motions", json={"motion": MAKINO_CYCLE, "samples": 37, "speed_rpm": 30})
         assert r.status_code == 200, r.text
         body = r.json()
-        # T4 and the cutting stroke as tests/test_motion_makino.py derives them independently
+        # T4 and the cutting stroke as tests/camcore/motion/test_makino_cycle.py derives them independently
         assert abs(body["segments"][1]["solved"]["t4"] - 0.956864006167049) < 1e-12
         assert all(join["continuity"] in ("C2", "C3") for join in body["joins"])
         assert body["time_s"][-1] == 2.0  # 360° at 30 rpm

@@ -167,7 +167,7 @@ def test_operation_conforms_to_its_schema(operation: schemathesis.APIOperation, 
 
 
 # ----------------------------------------------------------------------------- found by fuzzing
-#: Each was found by this module or by tests/test_hypothesis_curves.py. Open bugs are strict
+#: Each was found by this module or by tests/camcore/curves/test_universal_properties.py. Open bugs are strict
 #: xfails, so the test starts failing (XPASS) when the bug is fixed — then drop the mark.
 FOUND = [
     # 413 body used to carry requested=10**30, which orjson refuses (ints beyond 64 bits) → 500;

@@ -18,7 +18,7 @@ from .geometry import FloatArray, ParallelCam
 
 #: path points per sampled cam angle: at 181 samples a path moving 150 mm/rad steps 0.65 mm, and
 #: the contour's chords between exact points cut into a roller by (step)²/(8·Rr), 4.4e-3 mm for
-#: Rr = 12 mm (tests/test_parallel_cam.py measures it)
+#: Rr = 12 mm (tests/camcore/cams/test_parallel.py measures it)
 PATH_POINTS_PER_SAMPLE = 8
 #: a roller touches its plate where an envelope point is this close to the contour, as a share
 #: of the roller radius: above the chords' cut between exact vertices
