@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -38,6 +39,10 @@ from ..profile.cam import CamSpec
 from ..toolpath import CutterPath, Element
 from ..toolpath.compute import fit_surface
 from .registry import FileFormat
+
+#: the name of the part a STEP file holds (its PRODUCT), as a CAD tool lists it
+PRODUCT_NAME = "camcore plate cam"
+_PRODUCT = re.compile(rb"PRODUCT\('[^']*',\s*'[^']*'")
 
 
 @dataclass(frozen=True)
@@ -231,7 +236,10 @@ def solid_step(solid: SolidCam) -> bytes:
         if writer.Write(name) != IFSelect_RetDone:
             raise InvalidParameterError("the kernel could not write the STEP file.", field=("solid",))
 
-    return _through_file(".step", write)
+    # the part's name in a CAD tree: the kernel names it after a count of the files this process
+    # has written ("Open CASCADE STEP translator 8.0 17"), so the same cam gave other bytes
+    return _PRODUCT.sub(b"PRODUCT('" + PRODUCT_NAME.encode() + b"','" + PRODUCT_NAME.encode() + b"'",
+                        _through_file(".step", write), count=1)
 
 
 def stl_triangles_estimate(path: CutterPath, bore_diameter_mm: float, deflection_mm: float) -> int:

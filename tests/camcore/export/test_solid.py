@@ -123,3 +123,14 @@ def test_solid_refusals_name_the_field() -> None:
         solid_stl(SolidCam(ROLLER, 10.0, 20.0, 0.001, max_triangles=1000))
     assert limit.value.field == ("solid", "tolerance_mm")
     assert set(SOLID_FORMATS) == {"step", "stl"}
+
+
+def test_the_same_cam_is_the_same_step_file_however_many_came_before() -> None:
+    # OpenCASCADE names a file's product after a count of the files the process has written
+    # ("Open CASCADE STEP translator 8.0 17"): the part is named for what it is instead
+    import re
+
+    stamp = re.compile(rb"FILE_NAME\('[^']*','[^']*'")  # the moment of writing, in the header
+    first, second = (stamp.sub(b"", solid_step(SolidCam(ROLLER, 12.0, 20.0, 0.01))) for _ in range(2))
+    assert first == second
+    assert b"PRODUCT('camcore plate cam','camcore plate cam'" in first
