@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+import orjson
 from fastapi import FastAPI
 from starlette.types import ASGIApp
 
@@ -26,6 +27,10 @@ join). Tables are column-oriented JSON, or CSV
 on `Accept: text/csv` (POST) or `?format=csv` (GET)."""
 
 
+#: the OpenAPI documents made in this process, by the routes, title, version and description they come from
+_DOCUMENTS: dict[tuple[Any, ...], bytes] = {}
+
+
 class CamcoreAPI(FastAPI):
     """FastAPI with :class:`SecurityHeaders` and :class:`ServerTiming` outside everything,
     Starlette's own error middleware included (its 500 answers would miss the headers
@@ -37,8 +42,16 @@ class CamcoreAPI(FastAPI):
 
     def openapi(self) -> dict[str, Any]:
         if self.openapi_schema is None:
-            restore_examples(super().openapi(), [self.router])
-        return super().openapi()
+            # the same routes, title and version make the same document: made once per process
+            # (~0.4 s), each app holding its own copy
+            documented = tuple(id(route) for route in self.router.routes if getattr(route, "include_in_schema", False))
+            key = (documented, self.title, self.version, self.description)
+            if key not in _DOCUMENTS:
+                document = super().openapi()
+                restore_examples(document, [self.router])
+                _DOCUMENTS[key] = orjson.dumps(document)
+            self.openapi_schema = orjson.loads(_DOCUMENTS[key])  # JSON data: a copy in ~10 ms (deepcopy: ~0.4 s)
+        return self.openapi_schema
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:

@@ -137,9 +137,9 @@ def spectrum_work(ctx: Context, job: Spectrum, csv_answer: bool | None, peak: bo
     check_law(ctx, job.law, job.at)
     check_tau_count(ctx, job.count, job.field)
     cost = ctx.curves.cost(job.law, job.at)
-    # the curve, unless it is cached; no inverse tables (nothing here inverts it)
-    work = ctx.curves.build_work(job.law, cost, job.at, values_only=True) + vibration_work(cost, estimated_cells(job.law.kind, job.law.parameters),
-                                                     job.values().tolist(), job.field, peak)
+    # the curve, unless it is cached, then its response
+    work = ctx.curves.build_work(job.law, cost, job.at) + vibration_work(
+        cost, estimated_cells(job.law.kind, job.law.parameters), job.values().tolist(), job.field, peak)
     if csv_answer is None:
         return work
     return work + per_item_work(job.count, encode_cost(SPECTRUM_COLUMNS, csv_answer), job.field,
