@@ -14,13 +14,13 @@ from .estimate import Field, WorkEstimate, WorkTerm
 #: subcell at one τ value, 55-140 ns with the peak deviation (the integrals to every node, the
 #: deviation, the peak's candidates), 14-60 ns for the residual amplitude alone. Measured again
 #: against the whole estimate, over catalog, spline and Bezier curves at τ 0.001-1000 with 11 to
-#: 2001 values: 1.6-16.5 times the run with the peak, 3.4-28 times without; 85 ns and 30 ns are
-#: kept, at least 1.3 and 1.7 times the run where the nodes are most of it (781 values of a
-#: spline); per τ value,
+#: 2001 values, one run at a time: 1.6-16.5 times the run with the peak (kept: with two runs at
+#: once a 96-value spectrum took 1.3 times as long, the margin it needs), 3.4-28 times without
+#: (30 ns kept, still 1.7 times the run); per τ value,
 #: the peak's refinement (Newton's iteration on at most 32 intervals), ~10 µs; per band of τ
 #: (its Ω within a factor 2), cutting the subcells and the batches, ~1 ms; building the smooth
 #: cells of the acceleration, the curve at 17 nodes per cell about twice over
-VIBRATION_NODE_S = 1.5 * 8.5e-8
+VIBRATION_NODE_S = 1.5 * 1.4e-7
 VIBRATION_RESIDUAL_NODE_S = 1.5 * 3e-8
 VIBRATION_TAU_S = 1.5 * 1e-5
 VIBRATION_BAND_S = 1.5 * 1e-3
