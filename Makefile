@@ -32,8 +32,10 @@ lint: $(VENV)/.installed
 test: test-tools $(VENV)/.installed lint
 	$(PY) -m pytest
 
+# on both cores (pytest-xdist); the fuzz module is not even collected (every test of it is fuzz, and
+# reading the document into schemathesis is seconds of each worker's start)
 test-fast: $(VENV)/.installed
-	$(PY) -m pytest -m "$(FAST_TESTS)"
+	$(PY) -m pytest -n 2 -m "$(FAST_TESTS)" --ignore=tests/service/test_fuzz.py
 
 bench: $(VENV)/.installed
 	$(PY) -m bench

@@ -16,6 +16,7 @@ client or a schema-driven fuzzer does not build bodies the service refuses.
 from __future__ import annotations
 
 import copy
+import functools
 import json
 import re
 from collections import Counter
@@ -615,7 +616,14 @@ EXAMPLES = 50
 #: one operation per body schema, the JSON one (the .csv and file variants take the same body)
 PATHS = sorted({body_schema_name(path): path for path, item in reversed(DOCUMENT["paths"].items())
                 if "post" in item and "." not in path}.values())
-SCHEMA = schemathesis.openapi.from_dict(DOCUMENT)
+
+
+@functools.cache
+def schema() -> Any:
+    """The document as schemathesis reads it (made when a generation run first asks: ~1 s)."""
+    return schemathesis.openapi.from_dict(DOCUMENT)
+
+
 #: what the run saw, for the report: (path, status or rule) → count
 SEEN: Counter[tuple[str, str]] = Counter()
 
@@ -625,7 +633,7 @@ def generated_bodies(path: str) -> list[Any]:
 
     @hypothesis.settings(max_examples=EXAMPLES, deadline=None, derandomize=True, database=None,
                          suppress_health_check=list(HealthCheck), phases=[hypothesis.Phase.generate])
-    @given(case=SCHEMA[path]["POST"].as_strategy(GenerationMode.POSITIVE))
+    @given(case=schema()[path]["POST"].as_strategy(GenerationMode.POSITIVE))
     def collect(case: schemathesis.Case) -> None:
         bodies.append(case.body)
 

@@ -183,6 +183,7 @@ def test_a_conical_rollers_pressure_angle_carries_cos_squared_of_its_half_angle(
 
 
 # ----------------------------------------------------------------------------- flanks in 3-D
+@pytest.mark.property  # a dense scan: every flank point against the roller at every neighbouring angle
 @pytest.mark.parametrize("name", ["cylinder", "cone", "motion-80", "oscillating"])
 def test_flank_points_lie_on_the_roller_and_outside_it_at_every_neighbouring_angle(name: str) -> None:
     cam = cams()[name]

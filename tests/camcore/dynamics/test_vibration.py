@@ -104,6 +104,7 @@ def test_a_velocity_jump_is_an_impulse(zeta: float) -> None:
     assert np.allclose(result.peak_deviation, swing, rtol=1e-12)
 
 
+@pytest.mark.property  # every catalog curve over a grid of τ and damping, against a stepped integration
 def test_every_catalog_curve_matches_the_stepped_equation() -> None:
     tau = np.array([0.3, 0.8, 1.0, 1.7, 2.5, 4.2, 7.7, 10.0])
     zeta = np.array([0.0, 0.05, 0.3, 0.95])
@@ -118,6 +119,7 @@ def test_every_catalog_curve_matches_the_stepped_equation() -> None:
             assert np.abs(got.peak_deviation - ref.peak[i, case]).max() < AGREE, (NAMES[i], z)
 
 
+@pytest.mark.property  # a grid of fast vibration and heavy damping, against a stepped integration
 def test_fast_vibration_and_heavy_damping_match_the_stepped_equation() -> None:
     # acceleration jumps (constant acceleration), a start and end in motion (no-dwell simple
     # harmonic), asymmetric (TR); ζ close to 1, where ωd is small and the envelope large

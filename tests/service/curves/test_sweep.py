@@ -11,6 +11,7 @@ import httpx
 import pytest
 
 from service.settings import Settings
+from tests.service.apps import app_client
 from tests.camcore.curves.test_makino import APPENDIX_3_2, APPENDIX_3_2_MISPRINTS, HALF_DIGIT
 
 pytestmark = pytest.mark.anyio
@@ -111,7 +112,7 @@ async def test_bad_requests(client: httpx.AsyncClient) -> None:
     assert named.status_code == 422
 
 
-@pytest.mark.parametrize("settings", [Settings(max_sweep_combinations=20)])
-async def test_combination_limit(client: httpx.AsyncClient) -> None:
-    r = await client.post(PATH, json=APPENDIX_3_2_SWEEP)  # 24 combinations
+async def test_combination_limit() -> None:
+    async with app_client(Settings(max_sweep_combinations=20)) as client:
+        r = await client.post(PATH, json=APPENDIX_3_2_SWEEP)  # 24 combinations
     assert r.status_code == 413 and "characteristics sweep combinations" in r.text

@@ -23,6 +23,7 @@ from camcore.motion import SOLVE, Law, MotionSegment, MotionSpec, resolve_motion
 from service.app import create_app
 from service.motions.specs import FEED_CYCLE, MAKINO_CYCLE
 from service.settings import Settings
+from tests.service.apps import app_client
 
 pytestmark = pytest.mark.anyio
 APP = create_app()
@@ -126,9 +127,9 @@ async def test_invalid_programs_name_the_segment(client: httpx.AsyncClient, moti
             r.json()["detail"]
 
 
-@pytest.mark.parametrize("settings", [Settings(max_motion_segments=3)])
-async def test_too_many_segments_is_413(client: httpx.AsyncClient) -> None:
-    r = await client.post("/v1/motions", json={"motion": MAKINO_CYCLE})
+async def test_too_many_segments_is_413() -> None:
+    async with app_client(Settings(max_motion_segments=3)) as client:
+        r = await client.post("/v1/motions", json={"motion": MAKINO_CYCLE})
     assert r.status_code == 413, r.text
     assert r.json()["limit"] == {"name": "motion segments", "requested": 4, "limit": 3}
     assert r.json()["errors"][0]["loc"] == ["body", "motion", "segments"]

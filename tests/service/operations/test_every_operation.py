@@ -9,7 +9,8 @@ For each operation (service.registry.OPERATIONS):
   the media type the document declares for that route (and only that one for a twin), in bytes
   the reader of that media type takes back (tests/readers.py);
 - a request it cannot take is refused with a 4xx whose ``loc`` names the field;
-- its estimate bounds the work it then does (cold caches, warm imports).
+- its estimate bounds the work it then does (cold caches, warm imports; the work is the CPU time
+  of the thread that does it).
 """
 
 from __future__ import annotations
@@ -65,6 +66,8 @@ def declared(route: Route) -> dict[str, Any]:
 def ways(operation: Operation) -> Iterator[tuple[str, Route, Format, dict[str, Any], dict[str, str]]]:
     """Every way to ask for each format: (how, route, format, query additions, headers)."""
     for route in routes_of(operation):
+        if route.kind == "alias":  # an older path: its bytes are replayed (tests/service/test_answer_replay.py)
+            continue
         if route.kind != "operation":
             yield route.kind, route, route.formats[0], {}, {}
             continue
@@ -174,6 +177,7 @@ async def test_a_wrong_field_is_refused_naming_it(client: httpx.AsyncClient, ope
 
 
 #: the least disturbed of this many runs is compared: what else the machine does only adds to a run
+#: (its caches, its memory bandwidth: the thread's CPU time leaves out the waits for the core)
 RUNS = 2
 #: work shorter than this is not compared with its estimate: a garbage collection or a first
 #: call into a numpy routine costs a few milliseconds, far below the budget (1 s) and the
@@ -198,9 +202,10 @@ def test_the_estimate_bounds_the_work(operation: Operation) -> None:
             estimate = operation.estimate(ctx, core, fmt).seconds
             gc.disable()  # a collection of the objects earlier tests left is not this operation's work
             try:
-                start = time.perf_counter()
+                # the thread's own CPU time: the work, not the wait while another process has the core
+                start = time.thread_time()
                 operation.compute(ctx, core, fmt)
-                runs.append(time.perf_counter() - start)
+                runs.append(time.thread_time() - start)
             finally:
                 gc.enable()
         seconds = min(runs)
