@@ -48,12 +48,10 @@ def read_dxf(data: bytes) -> int:
     return len(doc.modelspace())
 
 
-def read_step(data: bytes) -> int:
-    """Solids in a STEP file, through the kernel's STEP reader."""
+def step_shape(data: bytes) -> Any:
+    """The shape a STEP file holds, through the kernel's STEP reader."""
     from OCP.IFSelect import IFSelect_RetDone
     from OCP.STEPControl import STEPControl_Reader
-    from OCP.TopAbs import TopAbs_SOLID
-    from OCP.TopExp import TopExp_Explorer
 
     fd, name = tempfile.mkstemp(suffix=".step")
     try:
@@ -62,9 +60,17 @@ def read_step(data: bytes) -> int:
         reader = STEPControl_Reader()
         assert reader.ReadFile(name) == IFSelect_RetDone
         reader.TransferRoots()
-        shape = reader.OneShape()
+        return reader.OneShape()
     finally:
         os.unlink(name)
+
+
+def read_step(data: bytes) -> int:
+    """Solids in a STEP file."""
+    from OCP.TopAbs import TopAbs_SOLID
+    from OCP.TopExp import TopExp_Explorer
+
+    shape = step_shape(data)
     solids = 0
     explorer = TopExp_Explorer(shape, TopAbs_SOLID)
     while explorer.More():

@@ -11,8 +11,6 @@ opposite directions), its volume by the divergence theorem.
 from __future__ import annotations
 
 import math
-import os
-import tempfile
 
 import numpy as np
 import pytest
@@ -21,6 +19,7 @@ import camcore
 from camcore.errors import InvalidParameterError, LimitExceededError
 from camcore.export import SOLID_FORMATS, SolidCam, solid_step, solid_stl
 from camcore.profile import Follower, Segment, compute_profile, make_cam
+from tests.readers import step_shape
 from tests.stl_mesh import directed_edges, read_stl
 
 MS = camcore.named_curve("MS")
@@ -48,21 +47,10 @@ def read_step(data: bytes) -> tuple[int, float, tuple[float, ...]]:
     from OCP.BRepBndLib import BRepBndLib
     from OCP.BRepGProp import BRepGProp
     from OCP.GProp import GProp_GProps
-    from OCP.IFSelect import IFSelect_RetDone
-    from OCP.STEPControl import STEPControl_Reader
     from OCP.TopAbs import TopAbs_SOLID
     from OCP.TopExp import TopExp_Explorer
 
-    fd, name = tempfile.mkstemp(suffix=".step")
-    try:
-        os.write(fd, data)
-        os.close(fd)
-        reader = STEPControl_Reader()
-        assert reader.ReadFile(name) == IFSelect_RetDone
-        reader.TransferRoots()
-        shape = reader.OneShape()
-    finally:
-        os.unlink(name)
+    shape = step_shape(data)
     solids = 0
     explorer = TopExp_Explorer(shape, TopAbs_SOLID)
     while explorer.More():
