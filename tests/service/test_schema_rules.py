@@ -607,6 +607,9 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     # inner end against the roller radius, sums against the centre distance, a share of it
     "The rollers leave no room for the rib", "The rollers cross the turret's axis",
     "must each be at least 0.1% of center_distance_mm",
+    # a motion program that must close as a cam's lift: the sum of its strokes (solved ones among
+    # them) compared with zero
+    "the motion program does not close",
     # a result beyond the range of float64
     "produced a non-finite number",
 )))
