@@ -8,8 +8,9 @@ PY := $(VENV)/bin/python
 
 .PHONY: serve test test-fast test-tools lint bench openapi
 
-# the quick tier: no external program (Chromium, LibreOffice, node, wrk) and no fuzz or property run
-FAST_TESTS := not (chromium or libreoffice or node or wrk or fuzz or property)
+# the quick tier: no external program (Chromium, LibreOffice, node, wrk, a client generator, the
+# image's), no bench and no fuzz or property run
+FAST_TESTS := not (chromium or libreoffice or node or wrk or generator or container or bench or fuzz or property)
 
 $(VENV)/.installed: requirements.lock requirements-dev.lock pyproject.toml
 	python3 -m venv $(VENV)
@@ -32,10 +33,12 @@ lint: $(VENV)/.installed
 test: test-tools $(VENV)/.installed lint
 	$(PY) -m pytest
 
-# on both cores (pytest-xdist); the fuzz module is not even collected (every test of it is fuzz, and
-# reading the document into schemathesis is seconds of each worker's start)
+# on both cores (pytest-xdist, an idle worker taking tests queued for the other); the fuzz module is not even collected (every test of it is fuzz, and
+# reading the document into schemathesis is seconds of each worker's start); pytest keeps the test
+# modules it rewrote (its asserts) as bytecode, half of each worker's start, where the environment
+# would forbid writing it (PYTHONDONTWRITEBYTECODE)
 test-fast: $(VENV)/.installed
-	$(PY) -m pytest -n 2 -m "$(FAST_TESTS)" --ignore=tests/service/test_fuzz.py
+	PYTHONDONTWRITEBYTECODE= $(PY) -m pytest -n 2 --dist worksteal -m "$(FAST_TESTS)" --ignore=tests/service/test_fuzz.py
 
 bench: $(VENV)/.installed
 	$(PY) -m bench

@@ -24,7 +24,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 SPEC = ROOT / "openapi" / "openapi.json"
 PACKAGE = "camcore_client"
-pytestmark = pytest.mark.e2e
+pytestmark = [pytest.mark.e2e, pytest.mark.generator]
 
 #: no formatter post-hooks (ruff need not be on PATH); image, DXF, STEP and STL answers are bytes
 #: (the generator knows application/json, text/* and application/octet-stream only; the same

@@ -22,6 +22,7 @@ FIGURES = {
 }
 
 
+@pytest.mark.bench
 @pytest.mark.wrk
 def test_bench_smoke_reports_every_figure() -> None:
     # the HTTP figures need wrk; make test installs it (scripts/install_test_tools.sh)
@@ -68,6 +69,7 @@ def test_readme_figures_are_the_bench_readmes() -> None:
     assert readme == bench
 
 
+@pytest.mark.bench
 def test_cost_model_smoke_measures_every_case() -> None:
     from bench.cost_model import CASES
 

