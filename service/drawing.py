@@ -89,6 +89,15 @@ def mark(ax: Axes, x: float, y: float, text: str, color: str, above: bool) -> No
                 bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8})
 
 
+def stacked_traces(axes: Any, x: Any, rows: list[tuple[str, str, Any]]) -> None:
+    """One trace per axes, stacked over a shared x: (colour key, label, values) each."""
+    for ax, (key, label, y) in zip(axes, rows, strict=True):
+        ax.plot(x, y, color=COLORS[key], linewidth=1.4)
+        ax.set_ylabel(label, fontsize=9)
+        style(ax)
+        ax.margins(x=0.0, y=0.18)
+
+
 def shade_spans(ax: Axes, spans: Any, y: float) -> None:
     """The lift schedule's stretches (label, start, end) shaded in turn and named at height ``y``
     (a fraction of the axes)."""

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from service.drawing import COLORS, LOCK, figure, mark, render, style
+from service.drawing import COLORS, LOCK, figure, mark, render, stacked_traces, style
 
 if TYPE_CHECKING:  # pragma: no cover
     from camcore.curves import Characteristics, CurveValues
@@ -20,11 +20,7 @@ def svaj_chart(values: CurveValues, ch: Characteristics, title: str, fmt: str = 
         t = values.t
         rows = [("s", "S (displacement)", values.s), ("v", "V (velocity)", values.v),
                 ("a", "A (acceleration)", values.a), ("j", "J (jerk)", values.j)]
-        for ax, (key, label, y) in zip(axes, rows, strict=True):
-            ax.plot(t, y, color=COLORS[key], linewidth=1.4)
-            ax.set_ylabel(label, fontsize=9)
-            style(ax)
-            ax.margins(x=0.0, y=0.18)
+        stacked_traces(axes, t, rows)
         ax_s, ax_v, ax_a, ax_j = axes
         v_at = float(np.interp(ch.vm.t, t, values.v))
         mark(ax_v, ch.vm.t, v_at, f"Vm = {ch.vm.value:.4f} at T = {ch.vm.t:.4f}", COLORS["v"], above=v_at >= 0)

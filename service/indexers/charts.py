@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from camcore.errors import InvalidParameterError
-from service.drawing import COLORS, LOCK, figure, mark, render, style
+from service.drawing import COLORS, LOCK, figure, mark, render, stacked_traces, style
 
 
 def indexer_chart(table: dict[str, np.ndarray], summary: dict[str, Any], title: str, fmt: str = "svg",
@@ -21,11 +21,7 @@ def indexer_chart(table: dict[str, np.ndarray], summary: dict[str, Any], title: 
         x = table["input_angle_deg"]
         rows = [("s", "output angle [deg]", table["output_angle_deg"]), ("v", "ω [rad/s]", table["omega_rad_s"]),
                 ("a", "α [rad/s²]", table["alpha_rad_s2"]), ("j", "jerk [rad/s³]", table["jerk_rad_s3"])]
-        for ax, (key, label, y) in zip(axes, rows, strict=True):
-            ax.plot(x, y, color=COLORS[key], linewidth=1.4)
-            ax.set_ylabel(label, fontsize=9)
-            style(ax)
-            ax.margins(x=0.0, y=0.18)
+        stacked_traces(axes, x, rows)
         ax_o, ax_w, ax_a, ax_j = axes
         s = summary
         mark(ax_o, float(x[-1]), float(table["output_angle_deg"][-1]), f"h = {s['displacement_deg']:.4g}°",
