@@ -28,8 +28,6 @@ COLORS = {"s": "#1f77b4", "v": "#2ca02c", "a": "#d62728", "j": "#9467bd", "q": "
 #: points per trace a chart may ask for
 MAX_PLOT_SAMPLES = 2001
 
-ImageFormat = Literal["svg", "png"]
-
 
 class ChartQuery(BaseModel):
     """What every chart's query has: the PNG resolution (the format is ``?format=``)."""

@@ -15,7 +15,6 @@ from typing import Any
 
 import numpy as np
 import orjson
-from fastapi import Request
 from starlette.responses import Response, StreamingResponse
 
 from camcore.errors import NonFiniteResultError
@@ -134,14 +133,6 @@ def csv_response(columns: Mapping[str, Any], filename: str = "table.csv") -> Res
     return CSVBody(encode_csv(columns), headers=headers)
 
 
-def wants_csv(request: Request, format_param: str | None = None) -> bool:
-    """CSV on ``?format=csv`` (GET) or ``Accept: text/csv`` (POST)."""
-    if format_param is not None:
-        return format_param.lower() == "csv"
-    accept = request.headers.get("accept", "")
-    return "text/csv" in accept.lower()
-
-
 def encode_table(columns: Mapping[str, Any], csv: bool, allow_null: tuple[str, ...] = ()) -> bytes:
     """The body of a table answer: CSV text or a JSON object of columns.
 
@@ -155,12 +146,6 @@ def encode_value(name: str, value: float) -> bytes:
     """One number as the whole answer (text/plain): Python's shortest round-trip form."""
     check_finite({name: np.float64(value)})
     return repr(float(value)).encode()
-
-
-def encoded_response(payload: bytes, csv: bool, filename: str = "table.csv") -> Response:
-    if csv:
-        return CSVBody(payload, headers={"Content-Disposition": f'inline; filename="{filename}"'})
-    return Response(payload, media_type="application/json")
 
 
 def table_response(columns: Mapping[str, Any], csv: bool, filename: str = "table.csv",

@@ -298,7 +298,7 @@ def _value_work(ctx: Context, job: Value, fmt: Format) -> WorkEstimate:
 def _quick_value(ctx: Context, job: Value, fmt: Format) -> bool:
     if job.s is not None:
         return is_quick_inverse(ctx, job.law, 1, "exact")
-    return _quick_table(ctx, Sampling(job.law, t=[0.0]), fmt)
+    return ctx.curves.built(job.law) is not None  # one row: quick once the curve is built
 
 
 def _value(ctx: Context, job: Value, fmt: Format) -> Text:

@@ -179,28 +179,39 @@ class SpectrumPlotQuery(ChartQuery):
         "residual_amplitude", description="residual_amplitude (after the motion) or peak_deviation (during it)")
 
 
-def _traces(q: SpectrumPlotQuery) -> list[Spectrum]:
+@dataclass(frozen=True)
+class SpectrumPlot:
+    """A chart's query, its curves' spectra and their legend labels."""
+
+    query: SpectrumPlotQuery
+    traces: tuple[Spectrum, ...]
+    labels: tuple[str, ...]
+
+
+def _plot_request(ctx: Context, q: SpectrumPlotQuery, path: Mapping[str, str]) -> SpectrumPlot:
     tau = (q.tau_start, q.tau_stop, q.samples)
-    traces = []
+    traces, labels = [], []
     for i, name in enumerate(q.curves):
         with within("curves", i, keep_field=False):
             entry = camcore.lookup(name)
         traces.append(Spectrum(Law("named", {"name": entry.id}), tau, ("samples",), q.damping_ratio,
                                ("curves", i)))
-    return traces
+        labels.append(entry.id if entry.name.lower() == entry.id.lower() else f"{entry.id} — {entry.name}")
+    return SpectrumPlot(q, tuple(traces), tuple(labels))
 
 
-def _plot_work(ctx: Context, q: SpectrumPlotQuery, fmt: Format) -> WorkEstimate:
+def _plot_work(ctx: Context, job: SpectrumPlot, fmt: Format) -> WorkEstimate:
     """Every curve's spectrum and the drawing."""
-    work = chart_work(fmt.name, q.dpi, SPECTRUM_RENDER_S)
-    for trace in _traces(q):
-        work += spectrum_work(ctx, trace, None, peak=q.quantity == "peak_deviation")
+    work = chart_work(fmt.name, job.query.dpi, SPECTRUM_RENDER_S)
+    for trace in job.traces:
+        work += spectrum_work(ctx, trace, None, peak=job.query.quantity == "peak_deviation")
     return work
 
 
-def _plot(ctx: Context, q: SpectrumPlotQuery, fmt: Format) -> Payload:
+def _plot(ctx: Context, job: SpectrumPlot, fmt: Format) -> Payload:
+    q = job.query
     traces: list[tuple[str, Any]] = []
-    for trace in _traces(q):
+    for trace, label in zip(job.traces, job.labels, strict=True):
         check_tau_count(ctx, trace.count, trace.field)
         with relocate(("curve",), trace.at, keep_rest=False):  # the query's curve
             curve = ctx.curves.curve(trace.law, ("curve",))
@@ -208,9 +219,7 @@ def _plot(ctx: Context, q: SpectrumPlotQuery, fmt: Format) -> Payload:
                 values = residual_vibration(curve, trace.values(), q.damping_ratio).columns()["peak_deviation"]
             else:
                 values = residual_amplitude(curve, trace.values().tolist(), q.damping_ratio)
-        entry = camcore.lookup(trace.law.parameters["name"])
-        same = entry.name.lower() == entry.id.lower()
-        traces.append((entry.id if same else f"{entry.id} — {entry.name}", values))
+        traces.append((label, values))
     damping = "undamped" if q.damping_ratio == 0 else f"ζ = {q.damping_ratio:g}"
     what = "Residual vibration" if q.quantity == "residual_amplitude" else "Peak deviation during the motion"
     tau = np.linspace(q.tau_start, q.tau_stop, q.samples)
@@ -226,6 +235,6 @@ OPERATIONS = (
               answer=VibrationTableAnswer, formats=(JSON, csv("vibration.csv")), examples=VIBRATION_EXAMPLES),
     Operation("plotResidualVibration", "/v1/curves/vibration/plot", "curves", "Plot Residual Vibration",
               "The residual-vibration spectra of catalog curves on one chart (log amplitude over τ).",
-              SpectrumPlotQuery, _plot, estimate=_plot_work, formats=(SVG, PNG), method="GET",
+              SpectrumPlotQuery, _plot, convert=_plot_request, estimate=_plot_work, formats=(SVG, PNG), method="GET",
               examples={"two curves": {"value": {"curves": "MS,cycloid", "samples": 101}}}),
 )

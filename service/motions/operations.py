@@ -37,7 +37,6 @@ from service.errors import Location, within
 from service.motions.specs import MOTION_EXAMPLES, MotionProgramAnswer, MotionProgramRequest
 from service.operations import JSON, Alias, Document, Format, Operation, Payload, csv, download
 
-CAM_TABLE = download(MOTION_FORMATS["cam-table"])
 FORMATS = (JSON, csv("motion.csv", "the table alone, for spreadsheets"),
            *(download(fmt) for fmt in MOTION_FORMATS.values()))
 

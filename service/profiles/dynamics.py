@@ -8,6 +8,8 @@ errors as POST /v1/profiles.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
+from dataclasses import dataclass
 from typing import Any
 
 from pydantic import Field, ValidationError
@@ -84,24 +86,31 @@ class DynamicsPlotQuery(ProfilePlotQuery):
                                    description="the contact force to keep: drawn, and shaded where it is not met")
 
 
-def _plot_request(q: DynamicsPlotQuery) -> DynamicsRequest:
-    """The POST body the query stands for (its rules and sentences: 422 at the query's fields)."""
+@dataclass(frozen=True)
+class DynamicsPlot:
+    """A chart's query and the POST body it stands for."""
+
+    query: DynamicsPlotQuery
+    body: DynamicsRequest
+
+
+def _plot_request(ctx: Context, q: DynamicsPlotQuery, path: Mapping[str, str]) -> DynamicsPlot:
+    """The query and its body (the body's rules and sentences: 422 at the query's fields)."""
     profile = plot_profile_spec(q)
     try:
-        return DynamicsRequest(profile=profile, speed_rpm=q.speed_rpm, safety_margin_n=q.safety_margin_n,
-                               samples=q.samples, **{name: getattr(q, name) for name in _LOAD_FIELDS})
+        return DynamicsPlot(q, DynamicsRequest(profile=profile, speed_rpm=q.speed_rpm, safety_margin_n=q.safety_margin_n,
+                                               samples=q.samples, **{name: getattr(q, name) for name in _LOAD_FIELDS}))
     except ValidationError as exc:
         raise query_error(exc) from None
 
 
-def _plot_work(ctx: Context, q: DynamicsPlotQuery, fmt: Format) -> WorkEstimate:
-    body = _plot_request(q)
+def _plot_work(ctx: Context, job: DynamicsPlot, fmt: Format) -> WorkEstimate:
     with relocate(("profile",), (), keep_rest=False):
-        return _work(ctx, body, JSON) + chart_work(fmt.name, q.dpi)
+        return _work(ctx, job.body, JSON) + chart_work(fmt.name, job.query.dpi)
 
 
-def _plot(ctx: Context, q: DynamicsPlotQuery, fmt: Format) -> Payload:
-    body = _plot_request(q)
+def _plot(ctx: Context, job: DynamicsPlot, fmt: Format) -> Payload:
+    q, body = job.query, job.body
     with relocate(("profile",), (), keep_rest=False):  # the query is flat: point at all of it
         result = dynamics(ctx, body)
     f = body.profile.follower
@@ -124,7 +133,7 @@ OPERATIONS = (
     Operation("plotFollowerDynamics", "/v1/profiles/dynamics/plot", "profiles", "Plot Follower Dynamics",
               "Contact force over the cam angle of a rise–dwell–return cam (the fields of plotProfile) with the zero "
               "line, the safety margin and the region where the follower leaves the cam shaded.",
-              DynamicsPlotQuery, _plot, estimate=_plot_work, formats=(SVG, PNG), method="GET",
+              DynamicsPlotQuery, _plot, convert=_plot_request, estimate=_plot_work, formats=(SVG, PNG), method="GET",
               examples={"roller": {"value": {"speed_rpm": 600, "mass_kg": 0.5, "spring_rate_n_mm": 2,
                                              "samples": 101}}}),
 )

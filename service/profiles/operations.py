@@ -8,6 +8,8 @@ Every operation that takes a cam (these, the toolpath, the follower's dynamics) 
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
+from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
@@ -333,14 +335,25 @@ def spans(spec: ProfileSpec) -> list[tuple[str, float, float]]:
     return out
 
 
-def _plot_work(ctx: Context, q: ProfilePlotQuery, fmt: Format) -> WorkEstimate:
-    spec = plot_profile_spec(q)
+@dataclass(frozen=True)
+class ProfilePlot:
+    """A chart's query and the profile spec it stands for."""
+
+    query: ProfilePlotQuery
+    spec: ProfileSpec
+
+
+def _plot_request(ctx: Context, q: ProfilePlotQuery, path: Mapping[str, str]) -> ProfilePlot:
+    return ProfilePlot(q, plot_profile_spec(q))
+
+
+def _plot_work(ctx: Context, job: ProfilePlot, fmt: Format) -> WorkEstimate:
     with relocate(("profile",), (), keep_rest=False):
-        return profile_answer_work(ctx, spec, q.samples, None, "json") + chart_work(fmt.name, q.dpi)
+        return profile_answer_work(ctx, job.spec, job.query.samples, None, "json") + chart_work(fmt.name, job.query.dpi)
 
 
-def _plot(ctx: Context, q: ProfilePlotQuery, fmt: Format) -> Payload:
-    spec = plot_profile_spec(q)
+def _plot(ctx: Context, job: ProfilePlot, fmt: Format) -> Payload:
+    q, spec = job.query, job.spec
     with relocate(("profile",), (), keep_rest=False):  # the query is flat: point at all of it
         result = profile(ctx, spec, q.samples, None)
     name = camcore.lookup(q.curve).id
@@ -378,6 +391,6 @@ OPERATIONS = (
               examples=BASE_CIRCLE_EXAMPLES),
     Operation("plotProfile", "/v1/profiles/plot", TAG, "Plot Profile",
               "Contour, base circle, pitch curve (roller) and pressure angle of a rise–dwell–return–dwell cam.",
-              ProfilePlotQuery, _plot, estimate=_plot_work, formats=(SVG, PNG), method="GET",
+              ProfilePlotQuery, _plot, convert=_plot_request, estimate=_plot_work, formats=(SVG, PNG), method="GET",
               examples={"roller": {"value": {"samples": 101}}}),
 )

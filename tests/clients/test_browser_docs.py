@@ -4,8 +4,7 @@ The service runs as users start it (``python -m service`` on a loopback port). C
 proxy that does not exist for every host except 127.0.0.1 and a resolver that resolves no name,
 so a page that needs a CDN (FastAPI's default /docs does) stays empty and the test fails.
 
-Needs Debian's ``chromium`` (``apt-get install -y chromium``); without it the test FAILS —
-``make test`` installs it (scripts/install_test_tools.sh). Set ``CAMCORE_CHROMIUM`` to use another binary.
+Needs Debian's ``chromium`` (tests/chromium.py); without it the test FAILS.
 """
 
 from __future__ import annotations
@@ -14,45 +13,25 @@ import os
 import shutil
 import struct
 import subprocess
-import tempfile
 from pathlib import Path
 
 import httpx
 import numpy as np
 import pytest
 
+from tests.chromium import run_chromium
+
 ROOT = Path(__file__).resolve().parents[2]
 pytestmark = [pytest.mark.e2e, pytest.mark.chromium]
 
-CHROMIUM_FLAGS = [
-    "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-    "--disable-background-networking", "--disable-component-update", "--disable-sync",
-    "--disable-dev-shm-usage", "--hide-scrollbars", "--mute-audio",
-    # loopback only: everything else goes to a proxy that is not there, and no name resolves
-    "--proxy-server=127.0.0.1:9", "--proxy-bypass-list=127.0.0.1",
-    "--host-resolver-rules=MAP * ~NOTFOUND , EXCLUDE 127.0.0.1",
-    "--virtual-time-budget=10000",
-]
+#: Chromium runs the page until it has been idle this long (virtual time) [ms]
+BUDGET = "--virtual-time-budget=10000"
 OPERATIONS = ["getHealth", "listCurves", "sampleCurve", "invertCurve", "sampleNamedCurve", "getIndexerMotion",
               "sizeIndexer", "computeProfile", "plotCurve", "plotIndexerMotion", "plotProfile"]
 
 
-def chromium() -> str:
-    path = os.environ.get("CAMCORE_CHROMIUM") or shutil.which("chromium") or shutil.which("chromium-browser")
-    if not path:
-        pytest.fail("Chromium is not installed: this test needs a headless browser. "
-                    "Install it with: apt-get update && apt-get install -y chromium "
-                    "(or set CAMCORE_CHROMIUM to a Chrome/Chromium binary).", pytrace=False)
-    return path
-
-
-def run_chromium(*args: str) -> subprocess.CompletedProcess[bytes]:
-    binary = chromium()
-    with tempfile.TemporaryDirectory(prefix="camcore-chromium-") as profile:
-        proc = subprocess.run([binary, *CHROMIUM_FLAGS, f"--user-data-dir={profile}", *args],
-                              capture_output=True, timeout=120, check=False)
-    assert proc.returncode == 0, proc.stderr.decode(errors="replace")[-2000:]
-    return proc
+def run_page(*args: str) -> subprocess.CompletedProcess[bytes]:
+    return run_chromium(BUDGET, *args, timeout_s=120)
 
 
 def test_docs_pages_reference_only_local_assets(base_url: str) -> None:
@@ -69,7 +48,7 @@ def test_docs_pages_reference_only_local_assets(base_url: str) -> None:
 
 
 def test_swagger_ui_lists_every_operation_offline(base_url: str) -> None:
-    dom = run_chromium("--dump-dom", f"{base_url}/docs").stdout.decode()
+    dom = run_page("--dump-dom", f"{base_url}/docs").stdout.decode()
     assert 'id="swagger-ui"' in dom
     # Swagger UI (deepLinking) gives every operation the element id operations-<tag>-<operationId>
     missing = [op for op in OPERATIONS if f"-{op}\"" not in dom]
@@ -79,14 +58,14 @@ def test_swagger_ui_lists_every_operation_offline(base_url: str) -> None:
 
 
 def test_redoc_lists_every_operation_offline(base_url: str) -> None:
-    dom = run_chromium("--dump-dom", f"{base_url}/redoc").stdout.decode()
+    dom = run_page("--dump-dom", f"{base_url}/redoc").stdout.decode()
     missing = [op for op in OPERATIONS if f"operation/{op}" not in dom]
     assert not missing, f"ReDoc did not render {missing}; DOM starts: {dom[:1500]}"
 
 
 def test_swagger_ui_screenshot_is_not_blank(base_url: str, tmp_path: Path) -> None:
     shot = tmp_path / "docs.png"
-    run_chromium("--window-size=1280,2000", f"--screenshot={shot}", f"{base_url}/docs")
+    run_page("--window-size=1280,2000", f"--screenshot={shot}", f"{base_url}/docs")
     body = shot.read_bytes()
     assert body[:8] == b"\x89PNG\r\n\x1a\n"
     width, height = struct.unpack(">II", body[16:24])

@@ -7,34 +7,25 @@ then posted to the same live server (``python -m service`` on a loopback port). 
 network is limited to the loopback interface; the page is a local file, so it may read the
 service's document across origins (``--disable-web-security``, this throwaway profile only).
 
-Needs Debian's ``chromium`` (``apt-get install -y chromium``); without it the test FAILS.
-Set ``CAMCORE_CHROMIUM`` to use another binary.
+Needs Debian's ``chromium`` (tests/chromium.py); without it the test FAILS.
 """
 
 from __future__ import annotations
 
 import html
 import json
-import os
 import re
-import shutil
-import subprocess
-import tempfile
 from pathlib import Path
 
 import httpx
 import pytest
 
+from tests.chromium import run_chromium
+
 pytestmark = [pytest.mark.e2e, pytest.mark.chromium]
 
-FLAGS = [
-    "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-    "--disable-background-networking", "--disable-component-update", "--disable-sync",
-    "--disable-dev-shm-usage", "--hide-scrollbars", "--mute-audio",
-    "--proxy-server=127.0.0.1:9", "--proxy-bypass-list=127.0.0.1",
-    "--host-resolver-rules=MAP * ~NOTFOUND , EXCLUDE 127.0.0.1",
-    "--disable-web-security", "--virtual-time-budget=60000",
-]
+# the page is a local file reading the service's document across origins (this throwaway profile only)
+FLAGS = ["--disable-web-security", "--virtual-time-budget=60000"]
 
 PAGE = """<!doctype html>
 <html><head><meta charset="utf-8"></head><body>
@@ -69,23 +60,11 @@ setTimeout(step, 100);
 """
 
 
-def chromium() -> str:
-    path = os.environ.get("CAMCORE_CHROMIUM") or shutil.which("chromium") or shutil.which("chromium-browser")
-    if not path:
-        pytest.fail("Chromium is not installed: this test needs a headless browser. "
-                    "Install it with: apt-get update && apt-get install -y chromium "
-                    "(or set CAMCORE_CHROMIUM to a Chrome/Chromium binary).", pytrace=False)
-    return path
-
-
 def swagger_prefill(base_url: str, folder: Path, paths: list[str]) -> dict[str, str | None]:
     """What Swagger UI pre-fills in the body of each POST of ``paths``."""
     page = folder / "swagger.html"
     page.write_text(PAGE.replace("BASE", base_url).replace("PATHS", json.dumps(paths)), encoding="utf-8")
-    with tempfile.TemporaryDirectory(prefix="camcore-chromium-") as profile:
-        proc = subprocess.run([chromium(), *FLAGS, f"--user-data-dir={profile}", "--dump-dom", page.as_uri()],
-                              capture_output=True, timeout=180, check=False)
-    assert proc.returncode == 0, proc.stderr.decode(errors="replace")[-2000:]
+    proc = run_chromium(*FLAGS, "--dump-dom", page.as_uri(), timeout_s=180)
     found = re.search(r'<pre id="prefill">(.*?)</pre>', proc.stdout.decode(), re.DOTALL)
     assert found and found.group(1) != "pending", "Swagger UI did not render the operations"
     return json.loads(html.unescape(found.group(1)))
