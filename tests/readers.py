@@ -65,18 +65,22 @@ def step_shape(data: bytes) -> Any:
         os.unlink(name)
 
 
-def read_step(data: bytes) -> int:
-    """Solids in a STEP file."""
+def count_solids(shape: Any) -> int:
+    """Solids in a kernel shape."""
     from OCP.TopAbs import TopAbs_SOLID
     from OCP.TopExp import TopExp_Explorer
 
-    shape = step_shape(data)
     solids = 0
     explorer = TopExp_Explorer(shape, TopAbs_SOLID)
     while explorer.More():
         solids += 1
         explorer.Next()
     return solids
+
+
+def read_step(data: bytes) -> int:
+    """Solids in a STEP file."""
+    return count_solids(step_shape(data))
 
 
 def read_stl_facets(data: bytes) -> int:

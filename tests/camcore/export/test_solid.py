@@ -19,7 +19,7 @@ import camcore
 from camcore.errors import InvalidParameterError, LimitExceededError
 from camcore.export import SOLID_FORMATS, SolidCam, solid_step, solid_stl
 from camcore.profile import Follower, Segment, compute_profile, make_cam
-from tests.readers import step_shape
+from tests.readers import count_solids, step_shape
 from tests.stl_mesh import directed_edges, read_stl
 
 MS = camcore.named_curve("MS")
@@ -47,21 +47,14 @@ def read_step(data: bytes) -> tuple[int, float, tuple[float, ...]]:
     from OCP.BRepBndLib import BRepBndLib
     from OCP.BRepGProp import BRepGProp
     from OCP.GProp import GProp_GProps
-    from OCP.TopAbs import TopAbs_SOLID
-    from OCP.TopExp import TopExp_Explorer
 
     shape = step_shape(data)
-    solids = 0
-    explorer = TopExp_Explorer(shape, TopAbs_SOLID)
-    while explorer.More():
-        solids += 1
-        explorer.Next()
     props = GProp_GProps()
     BRepGProp.VolumeProperties_s(shape, props)
     box = Bnd_Box()
     BRepBndLib.Add_s(shape, box, False)
     lo, hi = box.CornerMin(), box.CornerMax()
-    return solids, props.Mass(), (lo.X(), lo.Y(), lo.Z(), hi.X(), hi.Y(), hi.Z())
+    return count_solids(shape), props.Mass(), (lo.X(), lo.Y(), lo.Z(), hi.X(), hi.Y(), hi.Z())
 
 
 @pytest.mark.parametrize(("spec", "bore"), [(ROLLER, 20.0), (FLAT, 0.0)], ids=["roller-bored", "flat-oscillating"])
