@@ -11,6 +11,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from service.operations import cells
 from service.operations.factory import routes_of
 from service.registry import OPERATIONS
 
@@ -32,6 +33,8 @@ def render() -> str:
                 answers = (f"{route.formats[0].name}; deprecated, the same as "
                            f"`{operation.twin_id(route.formats[0])}`")
             rows.append(f"| `{route.id}` | {where} | {answers} |")
+    rows.append(f"| `{cells.OPERATION_ID}` | GET `{cells.PATH}` | text: one field of any POST computation's answer, "
+                "for a spreadsheet cell |")
     return "\n".join(rows) + "\n"
 
 

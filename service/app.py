@@ -15,6 +15,7 @@ from service.errors import install_error_handlers
 from service.middleware import AllowedMethods, BodySizeLimit, JSONBodiesOnly, SecurityHeaders, ServerTiming
 from service.offline_docs import install_offline_docs
 from service.openapi_examples import restore_examples
+from service.operations.cells import register_cell_route
 from service.operations.factory import register_routes
 from service.registry import OPERATIONS
 from service.security import install_security
@@ -62,6 +63,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.context = Context.create(settings)
     install_error_handlers(app)
     register_routes(app, OPERATIONS)  # every operation's routes, static paths before parameterised ones
+    register_cell_route(app, OPERATIONS)  # and each POST computation's cell form
     install_offline_docs(app)  # before security: it publishes the asset paths left open
     app.add_middleware(BodySizeLimit, max_body_bytes=settings.max_body_bytes)
     app.add_middleware(JSONBodiesOnly, routes=app.router.routes)  # 415 before any body is read

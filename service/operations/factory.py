@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import inspect
 from collections.abc import Mapping, Sequence
-from contextlib import nullcontext
+from contextlib import AbstractContextManager, nullcontext
 from dataclasses import dataclass
 from typing import Annotated, Any, Literal
 
@@ -30,7 +30,7 @@ from starlette.responses import Response
 from starlette.routing import BaseRoute
 
 from service.media import ERRORS, Responses, media_content
-from service.operations.answers import respond
+from service.operations.answers import Answer, respond
 from service.operations.formats import JSON, Format
 from service.operations.operation import Operation
 from service.routing import OrjsonRoute
@@ -111,25 +111,35 @@ def choose_format(route: Route, chosen: str | None, body: Any, request: Request)
 
 async def answer(operation: Operation, fmt: Format, request: Request, spec: Any,
                  path_values: Mapping[str, str]) -> Response:
-    """Answer one request: the spec converted once, a kept answer given at once, else the
-    estimate checked and admitted, the computation run (on the event loop when it is quick),
-    the answer written in ``fmt``."""
+    """Answer one request: :func:`compute_answer`, written in ``fmt``."""
+    with located(operation):
+        return respond(await compute_answer(operation, fmt, request, spec, path_values), fmt)
+
+
+def located(operation: Operation) -> AbstractContextManager[None]:
+    """Where the operation says its errors are, around its whole answer."""
+    return operation.located() if operation.located is not None else nullcontext()
+
+
+async def compute_answer(operation: Operation, fmt: Format, request: Request, spec: Any,
+                         path_values: Mapping[str, str]) -> Answer:
+    """What one request computes (inside :func:`located`): the spec converted once, a kept
+    answer given at once, else the estimate checked and admitted, the computation run (on the
+    event loop when it is quick)."""
     ctx = request.app.state.context
-    with operation.located() if operation.located is not None else nullcontext():
-        core = operation.convert(ctx, spec, path_values)
-        if operation.cached is not None:
-            kept = operation.cached(ctx, core, fmt)
-            if kept is not None:
-                return respond(kept, fmt)
-        work = operation.estimate(ctx, core, fmt)
-        if operation.warmup is not None:
-            await run_in_threadpool(operation.warmup, fmt)
-        if operation.quick is not None and operation.quick(ctx, core, fmt):
-            ctx.gate.check_budget(work)
-            result = operation.compute(ctx, core, fmt)
-        else:
-            result = await ctx.gate.run(request, work, operation.compute, ctx, core, fmt)
-        return respond(result, fmt)
+    core = operation.convert(ctx, spec, path_values)
+    if operation.cached is not None:
+        kept = operation.cached(ctx, core, fmt)
+        if kept is not None:
+            return kept
+    work = operation.estimate(ctx, core, fmt)
+    if operation.warmup is not None:
+        await run_in_threadpool(operation.warmup, fmt)
+    if operation.quick is not None and operation.quick(ctx, core, fmt):
+        ctx.gate.check_budget(work)
+        return operation.compute(ctx, core, fmt)
+    result: Answer = await ctx.gate.run(request, work, operation.compute, ctx, core, fmt)
+    return result
 
 
 # ----------------------------------------------------------------------------- the routes
