@@ -9,8 +9,8 @@ PY := $(VENV)/bin/python
 .PHONY: serve test test-fast test-tools lint bench openapi
 
 # the quick tier: no external program (Chromium, LibreOffice, node, wrk, a client generator, the
-# image's), no bench and no fuzz or property run
-FAST_TESTS := not (chromium or libreoffice or node or wrk or generator or container or bench or fuzz or property)
+# image's), no bench, no fuzz or property run, no docs block run against a server
+FAST_TESTS := not (chromium or libreoffice or node or wrk or generator or container or bench or fuzz or property or docs)
 
 $(VENV)/.installed: requirements.lock requirements-dev.lock pyproject.toml
 	python3 -m venv $(VENV)
