@@ -88,11 +88,15 @@ with open(sys.argv[2], encoding="utf-8") as f:
 
 
 def _marks(block: Block) -> list[pytest.MarkDecorator]:
-    """What a block needs: a live server (e2e, and docs: seconds each), LibreOffice, node, the generator."""
+    """What a block needs: a live server (e2e), LibreOffice, node, the generator. Only python on the
+    library stays in make test-fast: every other block runs programs (docs), which a new block may
+    name without a marker of their own (freecadcmd, soffice...)."""
     kind, text = block.kind, block.text
     marks = []
-    if kind in {"sh", "python", "typescript", "formula"} and block.uses_server():
-        marks += [pytest.mark.e2e, pytest.mark.docs]
+    if block.uses_server() and kind in {"sh", "console", "python", "typescript", "formula"}:
+        marks.append(pytest.mark.e2e)
+    if kind in {"sh", "console", "typescript", "formula"} or (kind == "python" and block.uses_server()):
+        marks.append(pytest.mark.docs)
     if kind == "formula" or (kind == "sh" and "soffice" in text):
         marks.append(pytest.mark.libreoffice)
     if kind == "typescript" or (kind == "sh" and re.search(r"\b(npm|node)\b", text)):
