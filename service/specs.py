@@ -78,7 +78,9 @@ class DefaultsInDescriptions(BaseModel):
     @classmethod
     def __get_pydantic_json_schema__(cls, core_schema: CoreSchema, handler: GetJsonSchemaHandler) -> JsonSchemaValue:
         schema = handler(core_schema)
-        for prop in handler.resolve_ref_schema(schema).get("properties", {}).values():
+        resolved = handler.resolve_ref_schema(schema)
+        _describe_rules(resolved)
+        for prop in resolved.get("properties", {}).values():
             if "default" not in prop or "const" in prop:
                 continue
             default = prop.pop("default")
@@ -111,15 +113,24 @@ class Spec(DefaultsInDescriptions):
         return copy
 
 
-def examples(*values: dict[str, Any], rules: Sequence[dict[str, Any]] = ()) -> ConfigDict:
+def examples(*values: dict[str, Any], rules: Sequence[dict[str, Any]] = (), nested: bool = True) -> ConfigDict:
     """A model's complete, valid examples, for the OpenAPI document: tools that build a body
     from the schema (Swagger UI's "Try it out" when an operation has no example of its own)
     take the first, instead of combining field examples into a contradiction.
 
-    ``rules`` are the model's cross-field rules as JSON Schema (made with :func:`rule`), stated
-    under ``allOf`` so that a client or a schema-driven fuzzer builds only bodies the
-    validators accept. The validators stay: they give the 422 its sentence. Rules JSON Schema
-    cannot state (numbers compared with each other, geometry) are said in descriptions only.
+    ``rules`` are the model's cross-field rules as JSON Schema (made with :func:`rule`), so that
+    a client or a schema-driven fuzzer builds only bodies the validators accept. The validators
+    stay: they give the 422 its sentence. Rules JSON Schema cannot state (numbers compared with
+    each other, geometry) are said in descriptions only.
+
+    The rules sit under ``then`` of an ``if`` every instance of the model meets
+    (:data:`RULES_IF`), as an ``allOf`` there: validators apply them to every body all the same,
+    but Swagger UI names a schema's type from its own ``allOf``/``anyOf``/``oneOf`` and reads a
+    model with its rules at the top as ``object | (any & any & …)``, while ``if``/``then`` it
+    leaves out of the type. ``nested=False`` keeps them at the top, as an ``allOf`` of the model
+    itself: schemathesis (the fuzz tests' generator) gives up on some models' rules one level
+    down (its canonical form of their negations grows past its limit). Each rule's sentence is
+    also listed in the model's description (:func:`_describe_rules`), where a reader sees it.
 
     Each rule is written with ``if``/``then``/``else`` and ``not`` only, at its top: the client
     generators read ``properties``, ``required``, ``oneOf`` and ``anyOf`` in an ``allOf`` member
@@ -127,9 +138,34 @@ def examples(*values: dict[str, Any], rules: Sequence[dict[str, Any]] = ()) -> C
     turns them into unions that refuse valid bodies), and leave these keywords alone.
     """
     extra: dict[str, Any] = {"examples": list(values)}
-    if rules:
+    if rules and nested:
+        extra |= {"if": RULES_IF, "then": {"allOf": list(rules)}}
+    elif rules:
         extra["allOf"] = list(rules)
     return ConfigDict(json_schema_extra=extra)
+
+
+#: the ``if`` of a model's rules: every instance of a model is an object
+RULES_IF: dict[str, Any] = {"type": "object"}
+#: the line before a model's rules in its description
+RULES_HEADING = "Rules between fields (a body that breaks one is answered 422 with its sentence):"
+
+
+def model_rules(schema: dict[str, Any]) -> list[dict[str, Any]]:
+    """The cross-field rules stated in a model's JSON Schema (see :func:`examples`): the list
+    itself, in the schema, or an empty one."""
+    if schema.get("if") == RULES_IF:
+        rules: list[dict[str, Any]] = schema["then"]["allOf"]
+        return rules
+    return schema.get("allOf", [])
+
+
+def _describe_rules(schema: dict[str, Any]) -> None:
+    """List the model's rules, by their sentences, at the end of its description (in place)."""
+    sentences = [member["description"] for member in model_rules(schema) if "description" in member]
+    if sentences:
+        listed = "\n".join(f"- {sentence}" for sentence in sentences)
+        schema["description"] = f"{schema.get('description', '').rstrip()}\n\n{RULES_HEADING}\n\n{listed}".lstrip()
 
 
 # ----------------------------------------------------------------------------- cross-field rules

@@ -159,7 +159,8 @@ class MotionSegmentSpec(Spec):
                      "then": {"properties": {"curve": {"not": {"anyOf": [MATCHED_POLYNOMIAL, MATCHED_UNIVERSAL]}}}}}),
                rule("a polynomial with omitted start/end, or curve 2 without t4, runs as a rise: give it direction 'rise'",
                     {"if": {"required": ["curve"], "properties": {"curve": {"anyOf": [MATCHED_POLYNOMIAL, SOLVED_T4]}}},
-                     "then": {"properties": {"curve": {"properties": {"direction": {"const": "rise"}}}}}})])
+                     "then": {"properties": {"curve": {"properties": {"direction": {"const": "rise"}}}}}})],
+        nested=False)  # nested, its five rules are past schemathesis's canonical form (service.specs.examples)
     type: Literal["move", "dwell"] = "move"
     span_deg: Span = Field(description="master angle of the segment")
     to: Finite | None = Field(None, description="absolute end position [unit]; null: the stroke that makes the "

@@ -35,6 +35,7 @@ from referencing import Registry, Resource
 from schemathesis import GenerationMode
 
 from service.app import create_app
+from service.specs import model_rules
 
 pytestmark = pytest.mark.anyio
 
@@ -56,10 +57,10 @@ def is_valid(body: object, path: str, document: dict[str, Any] = DOCUMENT) -> bo
 
 
 def stated_rules(document: dict[str, Any] = DOCUMENT) -> dict[str, list[tuple[str, int]]]:
-    """Each model rule's description → where it is: (schema name, index in its allOf)."""
+    """Each model rule's description → where it is: (schema name, index among its rules)."""
     found: dict[str, list[tuple[str, int]]] = {}
     for name, schema in document["components"]["schemas"].items():
-        for index, member in enumerate(schema.get("allOf", [])):
+        for index, member in enumerate(model_rules(schema)):
             if "description" in member:
                 found.setdefault(member["description"], []).append((name, index))
     return found
@@ -77,7 +78,7 @@ def without(rule: str) -> dict[str, Any]:
         del node[int(last) if isinstance(node, list) else last]
         return document
     for name, index in sorted(stated_rules(document)[rule], key=lambda place: -place[1]):
-        del document["components"]["schemas"][name]["allOf"][index]
+        del model_rules(document["components"]["schemas"][name])[index]
     return document
 
 
