@@ -24,7 +24,8 @@ from typing import Any
 import httpx
 import pytest
 
-from tests.clients.test_spreadsheets_libreoffice import NS, near_15_digits
+from tests.clients.test_spreadsheets_libreoffice import NS, _formula, _open_in_calc, _spreadsheet, near_15_digits
+from tests.clients.test_spreadsheets_libreoffice import _cells as _text_cells
 from tests.libreoffice import UPDATE_LINKS_ALWAYS, configure, run_basic, trusted_location
 
 pytestmark = [pytest.mark.e2e, pytest.mark.libreoffice]
@@ -280,3 +281,20 @@ def test_a_decimal_comma_locale_gives_the_same_figures(base_url: str, tmp_path: 
         row = next(r for r, item, _ in build.Layout(workbook).input_rows() if item.path == decimal)
         assert "," in _cell(rows, f"B{row}")["shown"]  # the German display: the locale took effect
         _check(target, base_url)
+
+
+def test_a_refusal_without_errors_text_is_a_bare_err_540_in_calc(base_url: str, tmp_path: Path) -> None:
+    """What LibreOffice 7.4 shows for a 4xx answer (measured here; docs/ecosystem.md): the same
+    Err:540 as for links that may not update, never the sentence; errors=text gives the line."""
+    folder = tmp_path / "sheets"
+    folder.mkdir()
+    url = f"{base_url}/v1/cell/sizeIndexer?indexer.stops=0&pick=input_torque_nm"
+    (folder / "refusal.fods").write_text(_spreadsheet(
+        _formula(f'COM.MICROSOFT.WEBSERVICE("{url}")') + _formula(f'COM.MICROSOFT.WEBSERVICE("{url}&errors=text")')),
+        encoding="utf-8")
+    assert httpx.get(url).status_code == 422
+    configure(tmp_path / "profile", UPDATE_LINKS_ALWAYS | trusted_location(folder))
+    _open_in_calc(tmp_path / "profile", folder / "refusal.fods", tmp_path / "refusal.fods")
+    ((status, text),) = _text_cells(tmp_path / "refusal.fods")
+    assert status == ("", "Err:540")
+    assert text[1].startswith("Error 422: indexer.stops: Input should be greater than or equal to 1")
