@@ -53,6 +53,8 @@ RESERVED = ("pick", "errors")
 ERROR_STATUS_HEADER = "Camcore-Error-Status"
 #: a query value read as a JSON value rather than as text
 _JSON_LITERAL = re.compile(r'-?(0|[1-9]\d*)(\.\d+)?([eE][+-]?\d+)?|true|false|null|".*"', re.DOTALL)
+#: the longest answer path a cell may pick
+MAX_PICK = 300
 #: most query parameters a cell may carry (a 6-part load with a motor is ~40)
 MAX_FIELDS = 200
 
@@ -286,7 +288,7 @@ def register_cell_route(app: FastAPI, operations: Sequence[Operation]) -> None:
     async def compute_cell(
         request: Request,
         operation: Annotated[str, Path(description="The operation's id.", json_schema_extra={"enum": list(names)})],
-        pick_path: Annotated[str | None, Query(alias="pick", max_length=300, description=(
+        pick_path: Annotated[str | None, Query(alias="pick", json_schema_extra={"maxLength": MAX_PICK}, description=(
             "The answer's field, by its path (dots; list indices). Required; without it the "
             "refusal lists the answer's fields."))] = None,
         errors: Annotated[Literal["status", "text"], Query(
@@ -295,6 +297,8 @@ def register_cell_route(app: FastAPI, operations: Sequence[Operation]) -> None:
     ) -> Response:
         try:
             op = _operation(operation, by_id)
+            if pick_path is not None and len(pick_path) > MAX_PICK:  # here, so that errors=text holds for it too
+                raise _query_error("pick", f"at most {MAX_PICK} characters, {len(pick_path)} given")
             fields = [(key, value) for key, value in request.query_params.multi_items() if key not in RESERVED]
             assert op.request is not None
             spec = validate(op.request, request_body(fields))
@@ -318,7 +322,7 @@ def register_cell_route(app: FastAPI, operations: Sequence[Operation]) -> None:
     router.add_api_route(
         PATH, compute_cell, methods=["GET"], operation_id=OPERATION_ID, tags=["spreadsheets"],
         summary="One field of any computation, for a spreadsheet cell", description=_description(chosen),
-        response_class=PlainTextResponse, route_class_override=OrjsonRoute,
+        response_class=Response, route_class_override=OrjsonRoute,  # (errors documented as JSON)
         responses={**ERRORS, 200: {"content": {TEXT_MEDIA_TYPE.split(";")[0]: {"schema": {"type": "string"}}},
                                    "description": "the picked value as text"}},
         openapi_extra={"parameters": [fields_parameter]})
