@@ -1,9 +1,12 @@
-"""The table of every operation id, written into docs/api.md from the registry.
+"""The table of every operation id, written into docs/api.md from the registry, and the list of
+every operation id by tag, written into README.md from the app's document.
 
-Usage: ``python -m scripts.operation_table`` (or ``--check`` to fail when docs/api.md drifted).
+Usage: ``python -m scripts.operation_table`` (or ``--check`` to fail when either drifted).
 The table sits between the markers ``<!-- operations: begin -->`` and ``<!-- operations: end -->``:
 each operation with its formats, then its file twins, then the older paths kept as deprecated
-aliases.
+aliases. The list sits between ``<!-- operation-ids: begin -->`` and ``<!-- operation-ids: end -->``:
+the list the document's header ends with (service.openapi_layout.operation_list), every operation
+that is not deprecated.
 """
 
 from __future__ import annotations
@@ -11,12 +14,17 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from service.app import create_app
+from service.openapi_layout import operation_list
 from service.operations import cells
 from service.operations.factory import routes_of
 from service.registry import OPERATIONS
 
-TARGET = Path(__file__).resolve().parent.parent / "docs" / "api.md"
+ROOT = Path(__file__).resolve().parent.parent
+TARGET = ROOT / "docs" / "api.md"
 BEGIN, END = "<!-- operations: begin -->", "<!-- operations: end -->"
+README = ROOT / "README.md"
+LIST_BEGIN, LIST_END = "<!-- operation-ids: begin -->", "<!-- operation-ids: end -->"
 
 
 def render() -> str:
@@ -38,24 +46,31 @@ def render() -> str:
     return "\n".join(rows) + "\n"
 
 
-def updated(text: str) -> str:
-    """docs/api.md's text with the table between the markers made anew."""
-    head, rest = text.split(BEGIN, 1)
-    _, tail = rest.split(END, 1)
-    return f"{head}{BEGIN}\n{render()}{END}{tail}"
+def render_list() -> str:
+    """The list of every operation id by tag, as markdown (the app's document's header's)."""
+    app = create_app()
+    return operation_list(app.openapi(), app.route_kinds) + "\n"
+
+
+def updated(text: str, begin: str = BEGIN, end: str = END, made: str | None = None) -> str:
+    """A text with what sits between the markers made anew (default: docs/api.md's table)."""
+    head, rest = text.split(begin, 1)
+    _, tail = rest.split(end, 1)
+    return f"{head}{begin}\n{render() if made is None else made}{end}{tail}"
 
 
 def main(argv: list[str]) -> int:
-    text = TARGET.read_text(encoding="utf-8")
-    new = updated(text)
+    targets = [(TARGET, updated(TARGET.read_text(encoding="utf-8"))),
+               (README, updated(README.read_text(encoding="utf-8"), LIST_BEGIN, LIST_END, render_list()))]
+    drifted = [path for path, new in targets if new != path.read_text(encoding="utf-8")]
     if "--check" in argv:
-        if new != text:
-            print(f"{TARGET} lists other operations than the registry: run python -m scripts.operation_table",
+        for path in drifted:
+            print(f"{path} lists other operations than the service: run python -m scripts.operation_table",
                   file=sys.stderr)
-            return 1
-        return 0
-    TARGET.write_text(new, encoding="utf-8")
-    print(f"wrote the operation table of {TARGET}")
+        return 1 if drifted else 0
+    for path, new in targets:
+        path.write_text(new, encoding="utf-8")
+    print(f"wrote the operation table of {TARGET} and the operation list of {README}")
     return 0
 
 

@@ -22,7 +22,7 @@ def _health(ctx: Context, _: None, fmt: Format) -> Raw:
 
 
 OPERATIONS = (
-    Operation("getHealth", "/health", "service", "Health",
+    Operation("getHealth", "/health", "service", "Service health and version",
               "Liveness and version, with the caches' hit and miss counts (HEAD: the same without its body, for "
               "load balancers and probes).",
               None, _health, method="GET", answer=HealthAnswer, head=True, examples={"probe": {"value": {}}}),

@@ -126,7 +126,7 @@ def _compute(ctx: Context, body: BarrelCamRequest, fmt: Format) -> Document | Ta
 
 
 OPERATIONS = (
-    Operation("computeBarrelCam", "/v1/cams/barrel", "cams", "Compute Barrel Cam",
+    Operation("computeBarrelCam", "/v1/cams/barrel", "cams", "Barrel cam",
               "A barrel cam: the developed groove, pressure angles across the roller, the flanks' radii of curvature, "
               "both flanks in 3-D, and the checks (largest pressure angle, smallest radii, undercut, groove "
               "dimensions); CSV: the columns over the cam angle (an empty radius cell: a straight stretch).",

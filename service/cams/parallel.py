@@ -54,7 +54,7 @@ def _compute(ctx: Context, body: ParallelCamRequest, fmt: Format) -> Document | 
 
 
 OPERATIONS = (
-    Operation("computeParallelIndexingCam", "/v1/cams/parallel", "cams", "Compute Parallel Indexing Cam",
+    Operation("computeParallelIndexingCam", "/v1/cams/parallel", "cams", "Parallel indexing cam",
               "A parallel indexing cam: each plate's contour (what its rollers leave), which roller touches it where "
               "and when, every contact over the turn, pressure angles and radii of curvature, and the checks (held "
               "both ways at every cam angle, largest pressure angle, undercut, room for the turret's shaft); CSV: "

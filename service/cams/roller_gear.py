@@ -76,7 +76,7 @@ def _compute(ctx: Context, body: RollerGearCamRequest, fmt: Format) -> Document 
 
 
 OPERATIONS = (
-    Operation("computeRollerGearCam", "/v1/cams/roller-gear", "cams", "Compute Roller Gear Cam",
+    Operation("computeRollerGearCam", "/v1/cams/roller-gear", "cams", "Roller-gear (globoidal) cam",
               "A roller-gear (globoidal) cam: both flanks of its rib as point grids in the cam's frame (the envelopes "
               "of the two rollers straddling the rib), the pressure angle over the index, the turret's angle, and "
               "the checks (largest pressure angle, undercut, the rib's thickness and radii); CSV: the columns over "

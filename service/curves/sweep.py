@@ -194,7 +194,7 @@ def _answer(ctx: Context, body: CharacteristicsSweepRequest, fmt: Format) -> Tab
 
 
 OPERATIONS = (
-    Operation("sweepCurveCharacteristics", "/v1/curves/characteristics/sweep", "curves", "Sweep Characteristics",
+    Operation("sweepCurveCharacteristics", "/v1/curves/characteristics/sweep", "curves", "Characteristic values over a parameter sweep",
               "Vm, Am±, Jm±, Qm± over every combination of one or two parameters of a makino or universal spec (CSV "
               "on ``?format=csv`` or ``Accept: text/csv``; the design chart on ``?format=png|svg``: two parameters, "
               "contours of Vm and Am over them, Makino's fig. 3; one, Vm and Am over it).",

@@ -228,12 +228,12 @@ def _plot(ctx: Context, job: SpectrumPlot, fmt: Format) -> Payload:
 
 
 OPERATIONS = (
-    Operation("computeResidualVibration", "/v1/curves/vibration", "curves", "Residual Vibration",
+    Operation("computeResidualVibration", "/v1/curves/vibration", "curves", "Residual vibration of a curve",
               "Residual amplitude and peak deviation (fractions of the stroke) of a follower on the curve, over τ.",
               VibrationRequest, lambda ctx, job, fmt: Table(spectrum(ctx, job)), convert=_spectrum_request,
               estimate=lambda ctx, job, fmt: spectrum_work(ctx, job, fmt.name == "csv"),
               answer=VibrationTableAnswer, formats=(JSON, csv("vibration.csv")), examples=VIBRATION_EXAMPLES),
-    Operation("plotResidualVibration", "/v1/curves/vibration/plot", "curves", "Plot Residual Vibration",
+    Operation("plotResidualVibration", "/v1/curves/vibration/plot", "curves", "Residual vibration chart of catalog curves",
               "The residual-vibration spectra of catalog curves on one chart (log amplitude over τ).",
               SpectrumPlotQuery, _plot, convert=_plot_request, estimate=_plot_work, formats=(SVG, PNG), method="GET",
               examples={"two curves": {"value": {"curves": "MS,cycloid", "samples": 101}}}),

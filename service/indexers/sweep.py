@@ -109,7 +109,7 @@ def _answer(ctx: Context, body: SizingSweepRequest, fmt: Format) -> Table | Payl
 
 
 OPERATIONS = (
-    Operation("sweepIndexerSizing", "/v1/indexers/sizing/sweep", "indexers", "Indexer Sizing Sweep",
+    Operation("sweepIndexerSizing", "/v1/indexers/sizing/sweep", "indexers", "Indexer sizing over a grid of designs",
               "Every combination of stops × indexing angles × curves × speeds sized at once (CSV on request, or "
               "``?format=png|svg``: input torque over speed per curve, a panel per stops and angle).",
               SizingSweepRequest, _answer, estimate=sweep_work, answer=SizingSweepAnswer,

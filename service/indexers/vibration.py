@@ -143,7 +143,7 @@ def _answer(ctx: Context, body: IndexerVibrationRequest, fmt: Format) -> Documen
 
 
 OPERATIONS = (
-    Operation("computeIndexerVibration", "/v1/indexers/vibration", "indexers", "Indexer Vibration",
+    Operation("computeIndexerVibration", "/v1/indexers/vibration", "indexers", "Indexer load vibration on an elastic drive",
               "Natural frequency, τ, residual amplitude and settling time of the load, and its error over the index "
               "and the dwell (CSV: the table).",
               IndexerVibrationRequest, _answer, estimate=_work, answer=IndexerVibrationAnswer,

@@ -156,7 +156,7 @@ def _examples_with_samples() -> Mapping[str, Any]:
 
 
 OPERATIONS = (
-    Operation("computeMotion", "/v1/motions", "motions", "Compute Motion",
+    Operation("computeMotion", "/v1/motions", "motions", "Motion program (machine cycle)",
               "Columns x_deg, s, v, a, j (and per second with speed_rpm), the resolved segments, the joins with "
               "their continuity, and the characteristic values over the cycle; ``?format=csv``: the table; "
               "``?format=cam-table``: the servo drive's cam table.",

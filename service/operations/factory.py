@@ -207,10 +207,20 @@ def _responses(route: Route) -> Responses:
     return {**ERRORS, 200: {"content": content, "description": "; or ".join(descriptions)}}
 
 
+def _summary(route: Route) -> str:
+    """The operation's summary; a twin's is the operation's and its format ("Plate cam profile
+    as DXF drawing"), an alias's the same and "(older path)"."""
+    summary = route.operation.summary
+    if route.main:
+        return summary
+    summary = f"{summary} as {route.formats[0].label}"
+    return f"{summary} (older path)" if route.deprecated else summary
+
+
 def _add(router: APIRouter, route: Route) -> None:
     operation = route.operation
     json_answer = route.formats[0] is JSON or JSON in route.formats
-    summary = operation.summary if route.main else f"{operation.summary} ({route.formats[0].name})"
+    summary = _summary(route)
     description = operation.description if route.main else (
         f"The answer of `{operation.id}` as {route.formats[0].description}"
         f" (`{operation.id}` with `?format={route.formats[0].name}`).")

@@ -57,10 +57,20 @@ class Format:
             headers["Content-Disposition"] = f'{kind}; filename="{self.file_name}"'
         return headers
 
+    @property
+    def label(self) -> str:
+        """What the format is called in a file twin's summary: ``… as DXF drawing``."""
+        return LABELS.get(self.name, self.name.upper())
+
     def camel(self) -> str:
         """The name in an operation id: ``contour-csv`` → ``ContourCsv``."""
         return "".join(part.capitalize() for part in self.name.split("-"))
 
+
+#: formats by what a reader calls them (a twin's summary); any other by its name in capitals
+LABELS = {"json": "JSON", "csv": "CSV", "text": "text", "svg": "SVG image", "png": "PNG image",
+          "dxf": "DXF drawing", "xyz": "X Y Z points", "contour-csv": "contour CSV", "step": "STEP solid",
+          "stl": "STL mesh", "gcode": "G-code", "cam-table": "servo cam table"}
 
 JSON = Format("json", JSON_MEDIA_TYPE, "the answer as JSON")
 TEXT = Format("text", TEXT_MEDIA_TYPE, "one bare number (Python's shortest round-trip form)")

@@ -123,14 +123,14 @@ def _plot(ctx: Context, job: DynamicsPlot, fmt: Format) -> Payload:
 
 
 OPERATIONS = (
-    Operation("computeFollowerDynamics", "/v1/profiles/dynamics", "profiles", "Compute Follower Dynamics",
+    Operation("computeFollowerDynamics", "/v1/profiles/dynamics", "profiles", "Spring-loaded follower dynamics",
               "Contact force, normal force, camshaft torque and Hertz stress over the cam angle of a spring-loaded "
               "follower at a speed; minimum contact force, whether the follower leaves the cam, the jump speed, the "
               "smallest preload, peak and RMS torque, peak stress over the turn.",
               DynamicsRequest, _compute, estimate=_work, answer=DynamicsAnswer,
               formats=(JSON, csv("dynamics.csv", "the table alone, for spreadsheets")), examples=DYNAMICS_EXAMPLES,
               aliases=(Alias("computeFollowerDynamicsTableCsv", "/v1/profiles/dynamics/table.csv", "csv"),)),
-    Operation("plotFollowerDynamics", "/v1/profiles/dynamics/plot", "profiles", "Plot Follower Dynamics",
+    Operation("plotFollowerDynamics", "/v1/profiles/dynamics/plot", "profiles", "Follower contact-force chart",
               "Contact force over the cam angle of a rise–dwell–return cam (the fields of plotProfile) with the zero "
               "line, the safety margin and the region where the follower leaves the cam shaded.",
               DynamicsPlotQuery, _plot, convert=_plot_request, estimate=_plot_work, formats=(SVG, PNG), method="GET",

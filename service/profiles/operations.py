@@ -372,7 +372,7 @@ def _plot(ctx: Context, job: ProfilePlot, fmt: Format) -> Payload:
 
 
 OPERATIONS = (
-    Operation("computeProfile", "/v1/profiles", TAG, "Compute Profile",
+    Operation("computeProfile", "/v1/profiles", TAG, "Plate cam profile",
               "Cam surface, pitch curve, lift, pressure angle, radius of curvature, and the checks; the contour "
               "as a file (DXF, X Y Z, CSV) or the cam as a solid (STEP, STL: give `solid` in the body).",
               ProfileRequest, _compute, estimate=_work, warmup=_warmup, answer=ProfileAnswer,
@@ -385,11 +385,11 @@ OPERATIONS = (
                        Alias("exportProfileContourCsv", "/v1/profiles/contour.csv", "contour-csv"),
                        Alias("exportProfileStep", "/v1/profiles/solid.step", "step"),
                        Alias("exportProfileStl", "/v1/profiles/solid.stl", "stl"))),
-    Operation("sizeBaseCircle", "/v1/profiles/base-circle", TAG, "Size Base Circle",
+    Operation("sizeBaseCircle", "/v1/profiles/base-circle", TAG, "Smallest base circle of a plate cam",
               "The smallest base radius meeting a pressure-angle limit and/or a curvature limit.",
               BaseCircleRequest, _base_circle, estimate=_base_circle_work, answer=BaseCircleAnswer,
               examples=BASE_CIRCLE_EXAMPLES),
-    Operation("plotProfile", "/v1/profiles/plot", TAG, "Plot Profile",
+    Operation("plotProfile", "/v1/profiles/plot", TAG, "Plate cam chart",
               "Contour, base circle, pitch curve (roller) and pressure angle of a rise–dwell–return–dwell cam.",
               ProfilePlotQuery, _plot, convert=_plot_request, estimate=_plot_work, formats=(SVG, PNG), method="GET",
               examples={"roller": {"value": {"samples": 101}}}),

@@ -178,7 +178,7 @@ def toolpath_answer(tp: Toolpath) -> dict[str, Any]:
 
 
 OPERATIONS = (
-    Operation("computeToolpath", "/v1/profiles/toolpath", "profiles", "Compute Toolpath",
+    Operation("computeToolpath", "/v1/profiles/toolpath", "profiles", "Plate cam toolpath (cutter centre)",
               "The cutter-centre path of a plate cam (its surface offset by the tool radius) as lines and arcs "
               "within tolerance_mm, the deviation measured; JSON, or G-code or DXF with format.",
               ToolpathRequest, _compute, estimate=toolpath_work, answer=ToolpathAnswer,

@@ -53,7 +53,7 @@ def test_swagger_ui_lists_every_operation_offline(base_url: str) -> None:
     # Swagger UI (deepLinking) gives every operation the element id operations-<tag>-<operationId>
     missing = [op for op in OPERATIONS if f"-{op}\"" not in dom]
     assert not missing, f"Swagger UI did not render {missing}; DOM starts: {dom[:1500]}"
-    for summary in ("Sample Curve", "Invert Curve", "Plot Curve"):
+    for summary in ("Catalog of named curves", "Plate cam profile as DXF drawing", "Catalog curve chart (S, V, A, J)"):
         assert summary in dom
 
 
