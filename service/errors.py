@@ -35,6 +35,7 @@ from camcore.errors import (
     WorkStoppedError,
 )
 from service.responses import JSONBody
+from service.specs import FieldRuleError
 
 logger = logging.getLogger("camcore.service")
 
@@ -175,6 +176,9 @@ async def validation_error_handler(request: Request, exc: Exception) -> JSONBody
         ):
             malformed = True
         loc = list(err.get("loc", ()))
+        broken = (err.get("ctx") or {}).get("error")
+        if isinstance(broken, FieldRuleError):  # a model's rule: at its field, not at the model
+            loc += broken.field
         msg = _clean_message(str(err.get("msg", "invalid value")))
         errors.append({"loc": loc, "msg": msg})
     if malformed:

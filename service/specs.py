@@ -40,6 +40,17 @@ Finite = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BI
 Direction = Literal["rise", "return"]
 
 
+class FieldRuleError(ValueError):
+    """A rule between fields broken, raised by a model's validator and located at the field that
+    breaks it (a path below the model, as a request field is): pydantic places a model
+    validator's error at the model itself, so the 422 would name only the body, and the service's
+    handler appends ``field`` to that location (service.errors)."""
+
+    def __init__(self, message: str, *field: str | int):
+        super().__init__(message)
+        self.field = field
+
+
 def _split_commas(values: object) -> object:
     """Query values, each possibly a comma-separated list: ?s=0.1&s=0.2,0.3 → [0.1, 0.2, 0.3]."""
     if isinstance(values, str):

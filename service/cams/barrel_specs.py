@@ -16,6 +16,7 @@ from service.profiles.specs import PositiveLength, SegmentSpec
 from service.specs import (
     JSON_INTEGER,
     DefaultsInDescriptions,
+    FieldRuleError,
     Spec,
     absent,
     all_of,
@@ -112,26 +113,27 @@ class BarrelCamRequest(Spec):
             raise ValueError("give the barrel cam's lift as segments or as a motion program")
         oscillating = self.follower == "oscillating"
         if oscillating and self.arm_length_mm is None:
-            raise ValueError("an oscillating barrel-cam follower needs arm_length_mm")
+            raise FieldRuleError("an oscillating barrel-cam follower needs arm_length_mm", "arm_length_mm")
         if oscillating and self.roller == "conical":
-            raise ValueError("a conical roller rolls on a translating follower only (an oscillating arm moves its "
-                             "apex off the cam axis)")
+            raise FieldRuleError("a conical roller rolls on a translating follower only (an oscillating arm moves "
+                                 "its apex off the cam axis)", "roller")
         if self.motion is not None:
             if oscillating and self.motion.unit != "deg":
-                raise ValueError("an oscillating barrel-cam follower's motion program is in deg (of swing)")
+                raise FieldRuleError("an oscillating barrel-cam follower's motion program is in deg (of swing)",
+                                     "motion", "unit")
             if not oscillating and self.motion.unit != "mm":
-                raise ValueError("a translating barrel-cam follower's motion program is in mm")
+                raise FieldRuleError("a translating barrel-cam follower's motion program is in mm", "motion", "unit")
         if self.segments is not None:
             total = sum(s.angle_deg for s in self.segments)
             if abs(total - 360) > 1e-9:
-                raise ValueError(f"segment angles must add to 360°, but they add to {total}°")
+                raise FieldRuleError(f"segment angles must add to 360°, but they add to {total}°", "segments")
             for i, seg in enumerate(self.segments):
                 if oscillating and seg.lift_mm is not None and seg.lift_mm > 0:
-                    raise ValueError(f"segments[{i}]: an oscillating barrel-cam follower's lift is swing_deg, "
-                                     "not lift_mm")
+                    raise FieldRuleError("an oscillating barrel-cam follower's lift is swing_deg, not lift_mm",
+                                         "segments", i, "lift_mm")
                 if not oscillating and seg.swing_deg is not None:
-                    raise ValueError(f"segments[{i}]: a translating barrel-cam follower's lift is lift_mm, "
-                                     "not swing_deg")
+                    raise FieldRuleError("a translating barrel-cam follower's lift is lift_mm, not swing_deg",
+                                         "segments", i, "swing_deg")
         length = self.roller_length_mm or self.roller_radius_mm
         # camcore's rules and sentences (a ValueError: 422)
         check_barrel_geometry(self.pitch_radius_mm, self.roller_radius_mm, length, self.groove_depth_mm or length,

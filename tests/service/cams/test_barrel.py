@@ -144,6 +144,29 @@ async def test_an_arm_that_turns_too_far_is_a_422_naming_the_field(client: httpx
     assert r.status_code == 422 and r.json()["errors"][0]["loc"] == ["body", "arm_length_mm"], r.text
 
 
+#: issue 33: an oscillating follower's rules answered loc ["body"] (a model validator's error sits
+#: at the model); each names the field that breaks it
+MM_MOTION = {"unit": "mm", "segments": [{"span_deg": 180, "to": 10}, {"span_deg": 180, "to": 0}]}
+
+
+@pytest.mark.parametrize(("changes", "loc"), [
+    ({"follower": "oscillating"}, ["body", "arm_length_mm"]),
+    ({"follower": "oscillating", "arm_length_mm": 80}, ["body", "segments", 0, "lift_mm"]),
+    ({"roller": "conical", "follower": "oscillating", "arm_length_mm": 80}, ["body", "roller"]),
+    ({"segments": None, "motion": MM_MOTION, "follower": "oscillating", "arm_length_mm": 80},
+     ["body", "motion", "unit"]),
+    ({"segments": [{"type": "rise", "angle_deg": 180, "swing_deg": 10}, {"type": "return", "angle_deg": 180,
+                                                                         "lift_mm": 10}]},
+     ["body", "segments", 0, "swing_deg"]),
+    ({"segments": CYCLOID_BODY["segments"][:3]}, ["body", "segments"]),
+])
+async def test_a_broken_follower_rule_is_a_422_naming_the_field(client: httpx.AsyncClient, changes: dict[str, Any],
+                                                                loc: list[str | int]) -> None:
+    r = await client.post("/v1/cams/barrel", json=body(CYCLOID_BODY, samples=5, **changes))
+    assert r.status_code == 422, r.text
+    assert [e["loc"] for e in r.json()["errors"]] == [loc], r.text
+
+
 async def test_the_flank_grid_is_bounded_by_the_table_limit() -> None:
     transport = httpx.ASGITransport(app=create_app(Settings(max_table_samples=1000)))
     async with httpx.AsyncClient(transport=transport, base_url="http://testserver") as client:
