@@ -127,7 +127,7 @@ def toolpath_gcode(file: ToolpathFile) -> str:
     lines = ["%", (f"(camcore toolpath: side {tp.side}, tool radius {_num(tp.tool_radius_mm)} mm, tolerance "
                   f"{_num(tp.tolerance_mm)} mm, measured deviation {tp.max_deviation_mm:.3g} mm, "
                   f"{tp.segments_count} elements)"),
-             "(cutter centre path: no cutter compensation; climb milling with a clockwise spindle)",
+             "(cutter centre path: no cutter compensation, climb milling with a clockwise spindle)",
              "(start the spindle and coolant before running)",
              "G17 G21 G90 G94 G40"]
     feed = _num(file.feed_mm_min)
