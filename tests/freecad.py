@@ -1,0 +1,48 @@
+"""Headless FreeCAD for the tests (``freecadcmd``, Debian's freecad-python3): runs a macro or script with
+its settings in the environment, time-bound, with a home folder of its own (FreeCAD writes its user
+settings there), and measures a saved document with tests/freecad_measure.py."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+from pathlib import Path
+from typing import Any
+
+#: a FreeCAD start is ~0.3 s and the three cams build in ~1 s here; a hung kernel must not hang the suite
+TIMEOUT_S = 120
+MEASURE = Path(__file__).with_name("freecad_measure.py")
+
+
+def freecadcmd() -> str:
+    path = shutil.which("freecadcmd")
+    assert path, "FreeCAD (freecadcmd) is needed by this test: install freecad-python3"
+    return path
+
+
+def run(script: Path, home: Path, **env: str) -> subprocess.CompletedProcess[str]:
+    """``freecadcmd script`` with ``env`` added; on a timeout its whole process group is ended.
+    freecadcmd exits 0 even when the script raises, so callers check what the script wrote."""
+    home.mkdir(parents=True, exist_ok=True)
+    cmd = [freecadcmd(), str(script)]
+    with subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True,
+                          env={**os.environ, "HOME": str(home), **env}) as proc:
+        try:
+            out, _ = proc.communicate(timeout=TIMEOUT_S)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            out, _ = proc.communicate()
+            raise AssertionError(f"freecadcmd {script.name} did not finish in {TIMEOUT_S} s: {out}") from None
+    return subprocess.CompletedProcess(cmd, proc.returncode, out, "")
+
+
+def measure(document: Path, home: Path) -> dict[str, Any]:
+    """Every solid of a saved document and every roller's contact (tests/freecad_measure.py)."""
+    out = document.with_suffix(".measured.json")
+    ran = run(MEASURE, home, CAMCORE_MEASURE_DOC=str(document), CAMCORE_MEASURE_OUT=str(out))
+    assert ran.returncode == 0 and out.exists(), f"the measuring script wrote nothing for {document}: {ran.stdout}"
+    result: dict[str, Any] = json.loads(out.read_text(encoding="utf-8"))
+    return result
