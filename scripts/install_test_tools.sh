@@ -9,6 +9,9 @@
 #     libreoffice-draw-nogui, -calc-nogui   soffice --headless: Draw renders our DXF, Calc a sheet
 #     nodejs, npm                           the TypeScript client test (only with clients/typescript)
 #     libgl1, libx11-6                      the CAD kernel (cadquery-ocp-novtk) loads libGL and libX11
+#     freecad-python3                       tests/clients/test_freecad_macro.py: freecadcmd runs the FreeCAD macro
+#                                           (Part and freecadcmd; the `freecad` package adds only a 54 kB shell;
+#                                           ~1.3 GB with its Qt and OpenCASCADE, --no-install-recommends)
 #   npm packages: `npm ci` in clients/typescript when its package-lock.json is newer than the
 #   last install.
 # Not root and something missing: one line says what to install, and the exit status is 1.
@@ -37,6 +40,7 @@ missing_packages() {
     libs=$(ldconfig -p 2>/dev/null || true)
     grep -q 'libGL\.so\.1 ' <<<"$libs" || pkgs+=(libgl1)
     grep -q 'libX11\.so\.6 ' <<<"$libs" || pkgs+=(libx11-6)
+    have freecadcmd || pkgs+=(freecad-python3)
     if [ -f "$TS_DIR/package.json" ]; then
         have node || pkgs+=(nodejs)
         have npm || pkgs+=(npm)
