@@ -7,10 +7,11 @@ from __future__ import annotations
 import json
 import os
 import shutil
-import signal
 import subprocess
 from pathlib import Path
 from typing import Any
+
+from tests.processes import run_bounded
 
 #: a FreeCAD start is ~0.3 s and the three cams build in ~1 s here; a hung kernel must not hang the suite
 TIMEOUT_S = 120
@@ -27,16 +28,8 @@ def run(script: Path, home: Path, **env: str) -> subprocess.CompletedProcess[str
     """``freecadcmd script`` with ``env`` added; on a timeout its whole process group is ended.
     freecadcmd exits 0 even when the script raises, so callers check what the script wrote."""
     home.mkdir(parents=True, exist_ok=True)
-    cmd = [freecadcmd(), str(script)]
-    with subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True,
-                          env={**os.environ, "HOME": str(home), **env}) as proc:
-        try:
-            out, _ = proc.communicate(timeout=TIMEOUT_S)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            out, _ = proc.communicate()
-            raise AssertionError(f"freecadcmd {script.name} did not finish in {TIMEOUT_S} s: {out}") from None
-    return subprocess.CompletedProcess(cmd, proc.returncode, out, "")
+    return run_bounded([freecadcmd(), str(script)], TIMEOUT_S, env={**os.environ, "HOME": str(home), **env},
+                       merge_stderr=True)
 
 
 def measure(document: Path, home: Path) -> dict[str, Any]:

@@ -8,12 +8,12 @@ start; ``run_basic`` runs a macro of the profile's own Basic library.
 
 from __future__ import annotations
 
-import os
 import shutil
-import signal
 import subprocess
 from pathlib import Path
 from xml.sax.saxutils import escape, quoteattr
+
+from tests.processes import run_bounded
 
 #: a cold start with a new profile takes ~1–3 s here; a hung office must not hang the suite
 TIMEOUT_S = 120
@@ -53,19 +53,9 @@ def configure(profile: Path, settings: dict[tuple[str, str], int | str | list[st
 
 
 def _run(profile: Path, args: list[str]) -> subprocess.CompletedProcess[str]:
-    """soffice with these arguments; on a timeout its whole process group is ended (the
-    ``soffice`` script starts ``soffice.bin``, which would outlive the script)."""
-    cmd = [soffice(), f"-env:UserInstallation={profile.resolve().as_uri()}", "--headless", "--norestore",
-           "--nolockcheck", *args]
-    with subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                          start_new_session=True) as proc:
-        try:
-            out, err = proc.communicate(timeout=TIMEOUT_S)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            out, err = proc.communicate()
-            raise AssertionError(f"soffice {args} did not finish in {TIMEOUT_S} s: {out} {err}") from None
-    return subprocess.CompletedProcess(cmd, proc.returncode, out, err)
+    """soffice with these arguments, bounded in time (tests.processes)."""
+    return run_bounded([soffice(), f"-env:UserInstallation={profile.resolve().as_uri()}", "--headless", "--norestore",
+                        "--nolockcheck", *args], TIMEOUT_S)
 
 
 def convert(source: str | Path, to: str, outdir: Path, profile: Path, infilter: str | None = None) -> Path:
