@@ -117,8 +117,10 @@ def development_only_modules() -> set[str]:
     """Top-level modules that only distributions of requirements-dev.lock provide."""
     # setuptools stays: the image's venv has its own (python -m venv installs it on 3.11)
     dev_only = set(pins(ROOT / "requirements-dev.lock", follow=False)) - {"setuptools"}
+    # a backport whose module the standard library has (argparse, which pygcode asks for) is
+    # shadowed by the standard library's own, which the image has
     return {module for module, dists in metadata.packages_distributions().items()
-            if {normalise(d) for d in dists} <= dev_only}
+            if {normalise(d) for d in dists} <= dev_only and module not in sys.stdlib_module_names}
 
 
 def free_port() -> int:
