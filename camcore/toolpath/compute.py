@@ -39,7 +39,7 @@ from ..profile.checks import check_grid, corners
 from ..profile.lift import TWO_PI
 from .fit import Budget, fit_stretch
 from .geometry import Element, corner_arc, path_area
-from .offset import OffsetCurve, base_curve, corner_turn
+from .offset import LEFT_LIMIT_RAD, OffsetCurve, base_curve, corner_turn
 
 Side = Literal["outside", "inside", "groove"]
 SIDES: tuple[str, ...] = ("outside", "inside", "groove")
@@ -258,7 +258,11 @@ def _path(spec: CamSpec, wall: str, w: float, eps: float, rt: float, tol: float,
         elements += [e for s in spans for e in s.elements]
     if 0.0 in turns:
         elements += _corner(curve, TWO_PI, budget)
-    elements = _closed(elements)
+    # the joins' one-sided limits sit LEFT_LIMIT_RAD before their break: that far apart, times
+    # the path's speed there (about its radius), so the gap they leave grows with the cam's size
+    joins = np.array([b - LEFT_LIMIT_RAD for b in bounds[1:] if b in turns or b == TWO_PI])
+    speed = float(curve.travel(joins)[4].max()) if joins.size else 0.0
+    elements = _closed(elements, 1e-6 + 4.0 * LEFT_LIMIT_RAD * speed)
     clockwise = path_area(elements) < 0
     if clockwise != (eps > 0):  # climb milling: clockwise round an outside, counter-clockwise inside
         elements = [e.reversed() for e in reversed(elements)]
@@ -270,13 +274,15 @@ def _path(spec: CamSpec, wall: str, w: float, eps: float, rt: float, tol: float,
                       radius, None if at_rad is None else math.degrees(at_rad), bool(gouges), lead)
 
 
-def _closed(elements: list[Element]) -> list[Element]:
+def _closed(elements: list[Element], max_gap_mm: float) -> list[Element]:
     """The chain with each element starting exactly where the one before ends (the one-sided
-    limits at corners and at 2π leave gaps of ~1e-9 mm, LEFT_LIMIT_RAD·|dP/dθ|)."""
+    limits at corners and at 2π leave gaps of LEFT_LIMIT_RAD·|dP/dθ|: ~1e-9 mm on a 100 mm
+    cam, 1e-6 mm at a base radius of 1e5 mm, 1e-5 mm at 1e6; ``max_gap_mm`` bounds them, a
+    larger gap is a bug)."""
     out = [elements[0]]
     for e in elements[1:] + [elements[0]]:
         gap = math.dist(out[-1].end, e.start)
-        assert gap < 1e-6, f"the path has a gap of {gap} mm"
+        assert gap < max_gap_mm, f"the path has a gap of {gap} mm (at most {max_gap_mm} expected)"
         if e is elements[0]:
             out[0] = replace(out[0], start=out[-1].end)
         else:

@@ -263,6 +263,30 @@ def test_other_refusals() -> None:
         compute_toolpath(sharp, 3.0, 0.01)
 
 
+# ------------------------------------------------------------------ large cams
+@pytest.mark.parametrize("base_radius_mm", [1e5, 1e6])
+@pytest.mark.parametrize("lift", ["MS", "cornered"])
+def test_a_large_cam_closes_its_path(base_radius_mm: float, lift: str) -> None:
+    # issue 34, point 4: at a base radius of 1e5 mm the one-sided limits at 2π (and at corners) sit
+    # LEFT_LIMIT_RAD·|dP/dθ| ≈ 1e-6 mm from the next element's start, and an absolute 1e-6 mm bound
+    # on that gap answered 500; the bound now grows with the path's speed there
+    segments = RISE_DWELL if lift == "MS" else [
+        Segment(type="rise", angle_deg=120, lift_mm=15, curve=JUMP), Segment(type="dwell", angle_deg=60),
+        Segment(type="return", angle_deg=120, lift_mm=15, curve=JUMP), Segment(type="dwell", angle_deg=60)]
+    spec = make_cam(Follower(type="roller", roller_radius_mm=10), base_radius_mm, segments=segments)
+    tp = compute_toolpath(spec, 4.0, 0.01)
+    (path,) = tp.paths
+    elements = path.elements
+    # closed exactly: every element starts where the one before ends, the last ends at the first's start
+    assert all(a.end == b.start for a, b in zip(elements, elements[1:] + elements[:1], strict=True))
+    assert path.max_deviation_mm <= 0.01
+    # the tool's centre runs 4 mm off the surface, from the base circle to the 15 or 20 mm lift; the
+    # elements' ends (a biarc's joint too) lie within the tolerance of that exact path
+    radii = [math.hypot(*e.start) for e in elements]
+    lift_mm = 20.0 if lift == "MS" else 15.0
+    assert base_radius_mm + 4.0 - 0.01 <= min(radii) and max(radii) <= base_radius_mm + 4.0 + lift_mm + 0.01
+
+
 # ------------------------------------------------------------------ DXF
 def test_dxf_is_lines_and_arcs_in_mm_with_real_extents() -> None:
     tp = compute_toolpath(ROLLER, 8.0, 0.005, side="groove")
