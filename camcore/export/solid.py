@@ -43,6 +43,11 @@ from .registry import FileFormat
 #: the name of the part a STEP file holds (its PRODUCT), as a CAD tool lists it
 PRODUCT_NAME = "camcore plate cam"
 _PRODUCT = re.compile(rb"PRODUCT\('[^']*',\s*'[^']*'")
+#: the thinnest plate [mm]: 1 µm, 10 000 times the kernel's confusion tolerance
+#: (Precision::Confusion, 1e-7 mm: a shorter extrusion is no solid, BRepSweep_Prism refuses it,
+#: and at 2e-7 mm the kernel still made one, with a different STEP file), far below any plate
+#: anyone cuts (shim stock starts at 0.01 mm)
+MIN_THICKNESS_MM = 1e-3
 
 
 @dataclass(frozen=True)
@@ -74,8 +79,9 @@ class SolidCam:
 
 
 def _contour(solid: SolidCam, tolerance_mm: float) -> CutterPath:
-    if not (math.isfinite(solid.thickness_mm) and solid.thickness_mm > 0):
-        raise InvalidParameterError("thickness_mm must be positive.", field=("solid", "thickness_mm"))
+    if not (math.isfinite(solid.thickness_mm) and solid.thickness_mm >= MIN_THICKNESS_MM):
+        raise InvalidParameterError(f"thickness_mm must be at least {MIN_THICKNESS_MM:g} mm (1 µm).",
+                                    field=("solid", "thickness_mm"))
     path = fit_surface(solid.cam, tolerance_mm, solid.max_elements)
     inner = min(_nearest_to_axis(e) for e in path.elements)
     if not 0.0 <= solid.bore_diameter_mm < 2.0 * inner:
@@ -150,7 +156,7 @@ def build_solid(solid: SolidCam, tolerance_mm: float | None = None) -> Any:
     Raises
     ------
     InvalidParameterError
-        A thickness that is not positive, or a bore that does not fit inside the cam.
+        A thickness under MIN_THICKNESS_MM (1 µm), or a bore that does not fit inside the cam.
     GeometryError
         A surface that cannot be fitted (undercut, a sharp corner): as camcore.toolpath.
 

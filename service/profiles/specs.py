@@ -7,6 +7,7 @@ from typing import Annotated, Literal
 from fastapi.openapi.models import Example
 from pydantic import Field, PrivateAttr, model_validator
 
+from camcore.export.solid import MIN_THICKNESS_MM
 from camcore.profile import BaseCircleResult, Follower, ProfileChecks
 from camcore.profile.followers import check_follower
 from service.curves.specs import MS_SPEC, BezierCurveSpec, CurveSpec, PointsCurveSpec
@@ -182,7 +183,8 @@ class SolidSpec(Spec):
     """The plate cam as a solid (``?format=step`` or ``stl``): extruded along its axis from z = 0."""
 
     model_config = examples({"thickness_mm": 12, "bore_diameter_mm": 20})
-    thickness_mm: PositiveLength = Field(description="extrusion along the cam axis [mm]")
+    thickness_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=MIN_THICKNESS_MM, le=BIG)] = Field(
+        description="extrusion along the cam axis [mm], at least 1 µm (the CAD kernel makes no thinner solid)")
     bore_diameter_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, le=BIG)] = Field(
         0.0, description="bore about the axis, smaller than the cam at its narrowest [mm]; 0: none")
     tolerance_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-4, le=10)] = Field(

@@ -18,6 +18,7 @@ import pytest
 import camcore
 from camcore.errors import InvalidParameterError, LimitExceededError
 from camcore.export import SOLID_FORMATS, SolidCam, solid_step, solid_stl
+from camcore.export.solid import MIN_THICKNESS_MM
 from camcore.profile import Follower, Segment, compute_profile, make_cam
 from tests.readers import count_solids, step_shape
 from tests.stl_mesh import directed_edges, read_stl
@@ -104,6 +105,11 @@ def test_solid_refusals_name_the_field() -> None:
         solid_stl(SolidCam(ROLLER, 10.0, 20.0, 0.001, max_triangles=1000))
     assert limit.value.field == ("solid", "tolerance_mm")
     assert set(SOLID_FORMATS) == {"step", "stl"}
+    # thinner than 1 µm: the kernel refuses 1e-7 mm (its confusion tolerance), so camcore does first
+    with pytest.raises(InvalidParameterError) as thin:
+        solid_step(SolidCam(ROLLER, 0.999 * MIN_THICKNESS_MM))
+    assert thin.value.field == ("solid", "thickness_mm") and "at least 0.001 mm" in str(thin.value)
+    assert read_step(solid_step(SolidCam(ROLLER, MIN_THICKNESS_MM)))[0] == 1
 
 
 def test_the_same_cam_is_the_same_step_file_however_many_came_before() -> None:

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from camcore.export import MOTION_FORMATS, SOLID_FORMATS, TOOLPATH_FORMATS
+from camcore.export.solid import MIN_THICKNESS_MM
 from service.app import create_app
 from service.motions.specs import FEED_CYCLE, MAKINO_CYCLE
 from service.profiles.specs import ROLLER_PROFILE_EXAMPLE
@@ -120,6 +121,21 @@ async def test_a_solid_needs_its_spec(client: httpx.AsyncClient) -> None:
     assert r.status_code == 422 and r.json()["errors"][0]["loc"][:2] == ["body", "solid"]
     r = await client.post("/v1/profiles?format=step", json={**SOLID, "solid": {"thickness_mm": 5, "bore_diameter_mm": 81}})
     assert r.status_code == 422 and r.json()["errors"][0]["loc"] == ["body", "solid", "bore_diameter_mm"]
+
+
+async def test_the_thinnest_solid(client: httpx.AsyncClient) -> None:
+    # issue 34, point 4: 1e-7 mm, the CAD kernel's confusion tolerance, made it refuse the extrusion
+    # (Standard_ConstructionError, 500); the spec's bound is camcore's MIN_THICKNESS_MM (1 µm)
+    for url in ("/v1/profiles?format=step", "/v1/profiles/solid.step", "/v1/profiles/solid.stl"):
+        r = await client.post(url, json={**SOLID, "solid": {"thickness_mm": 1e-7, "bore_diameter_mm": 20}})
+        assert r.status_code == 422, r.text
+        assert r.json()["errors"][0]["loc"] == ["body", "solid", "thickness_mm"]
+        assert "greater than or equal to 0.001" in r.json()["errors"][0]["msg"]
+    r = await client.post("/v1/profiles/solid.step", json={**SOLID, "solid": {"thickness_mm": MIN_THICKNESS_MM}})
+    assert r.status_code == 200, r.text
+    solids, _, box = read_step(r.content)
+    # the kernel pads its box by its 1e-7 mm precision
+    assert solids == 1 and box[2] == pytest.approx(0.0, abs=1e-6) and box[5] == pytest.approx(1e-3, abs=1e-6)
 
 
 @pytest.mark.parametrize("cycle", [MAKINO_CYCLE, FEED_CYCLE], ids=["makino", "feed"])
