@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import re
+from pathlib import Path
 from typing import Any, Literal
 
-from pydantic import Field, ValidationError, field_validator
+from pydantic import Field, ValidationError, field_validator, model_validator
+from pydantic_core import PydanticCustomError
 from pydantic_settings import BaseSettings, SettingsConfigDict
 from pydantic_settings.exceptions import SettingsError
 
@@ -79,12 +81,45 @@ class Settings(BaseSettings):
 
     # access control (off by default for local use)
     api_key: str | None = None
+    api_key_file: Path | None = Field(None, description="a file holding the API key (a mounted Secret); its "
+                                                        "text, without the trailing newline, becomes api_key")
     cors_origins: list[str] = Field(default_factory=list)
 
     @field_validator("log_level", mode="before")
     @classmethod
     def _lower_case_level(cls, value: Any) -> Any:
         return value.lower() if isinstance(value, str) else value
+
+    @field_validator("api_key_file")
+    @classmethod
+    def _key_file_holds_a_key(cls, path: Path | None) -> Path | None:
+        if path is not None:
+            _read_key(path)
+        return path
+
+    @model_validator(mode="after")
+    def _key_from_file(self) -> Settings:
+        # a key in a file (Kubernetes mounts a Secret's key as one) is in no environment
+        # variable, which `ps e`, /proc/<pid>/environ or a child process could show
+        if self.api_key_file is not None:
+            if self.api_key:
+                raise PydanticCustomError("key_twice", "CAMCORE_API_KEY and CAMCORE_API_KEY_FILE are both set: "
+                                                       "set one")
+            self.api_key = _read_key(self.api_key_file)
+        return self
+
+
+def _read_key(path: Path) -> str:
+    """The key a file holds: its text without the trailing newline (`echo key > file` adds one)."""
+    try:
+        key = path.read_text(encoding="utf-8").rstrip("\r\n")
+    except OSError as exc:
+        raise PydanticCustomError("key_file", "cannot be read: {reason}", {"reason": exc.strerror}) from None
+    except UnicodeDecodeError:
+        raise PydanticCustomError("key_file", "is not UTF-8 text") from None
+    if not key.strip():
+        raise PydanticCustomError("key_file", "is empty")
+    return key
 
 
 def environment_name(field: str) -> str:

@@ -6,7 +6,11 @@ document are exactly those of an app without them.
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
 from collections.abc import AsyncIterator
+from pathlib import Path
 
 import httpx
 import pytest
@@ -21,6 +25,7 @@ pytestmark = pytest.mark.anyio
 
 KEY = "s3cret-key-for-tests"
 ORIGIN = "https://plant.example"
+ROOT = Path(__file__).resolve().parents[2]
 MS_TABLE = {"curve": {"type": "named", "name": "MS"}, "samples": 5}
 
 
@@ -212,3 +217,42 @@ def test_empty_key_means_off() -> None:
     assert APIKeyMiddleware not in {m.cls for m in app.user_middleware}
     with pytest.raises(ValueError):
         APIKeyMiddleware(app, api_key="")
+
+
+# ---------------------------------------------------------------------- the key in a file
+def test_key_file_sets_the_key(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    # a Kubernetes Secret mounted as a file holds the bytes as given; `echo key > file` adds a newline
+    (tmp_path / "api-key").write_text(KEY + "\n", encoding="utf-8")
+    monkeypatch.setenv("CAMCORE_API_KEY_FILE", str(tmp_path / "api-key"))
+    assert Settings().api_key == KEY
+
+
+async def test_key_from_a_file_is_required(tmp_path: Path) -> None:
+    (tmp_path / "api-key").write_text(KEY, encoding="utf-8")
+    app = build(Settings(api_key_file=tmp_path / "api-key"))
+    async with httpx.AsyncClient(transport=httpx.ASGITransport(app=app), base_url="http://testserver") as client:
+        without = await client.post("/v1/curves/table", json=MS_TABLE)
+        with_key = await client.post("/v1/curves/table", json=MS_TABLE, headers={"X-API-Key": KEY})
+    assert without.status_code == 401 and with_key.status_code == 200
+
+
+@pytest.mark.parametrize(("content", "also_key", "message"), [
+    (None, False, "cannot be read: No such file or directory"),
+    ("\n", False, "is empty"),
+    (KEY, True, "CAMCORE_API_KEY and CAMCORE_API_KEY_FILE are both set: set one"),
+])
+def test_bad_key_file_stops_the_start_with_one_line(tmp_path: Path, content: str | None, also_key: bool,
+                                                     message: str) -> None:
+    path = tmp_path / "api-key"
+    if content is not None:
+        path.write_text(content, encoding="utf-8")
+    env = {k: v for k, v in os.environ.items() if not k.startswith("CAMCORE_")}
+    env.update(CAMCORE_API_KEY_FILE=str(path), CAMCORE_PORT="1")
+    if also_key:
+        env["CAMCORE_API_KEY"] = "another-" + KEY
+    done = subprocess.run([sys.executable, "-m", "service"], cwd=ROOT, env=env, capture_output=True, text=True,
+                          timeout=60, check=False)
+    assert done.returncode == 2 and done.stdout == ""
+    (line,) = done.stderr.splitlines()
+    assert line.startswith("camcore: invalid setting: ") and line.endswith(message), line
+    assert KEY not in line, "the key is never echoed"
