@@ -146,7 +146,7 @@ def indexer_vibration(indexer: Indexer, inertia_kgm2: float, stiffness_nm_rad: f
     h = indexer.displacement_deg * 3600.0
     dwell = max(0.0, indexer.machine_cycle_time_s - th)
     residual = h * response.residual_amplitude
-    settling_u = response.settling(tolerance / h)
+    settling_u = response.settling(tolerance, h)
     settling = None if settling_u is None else settling_u * th
     times = np.linspace(0.0, th + dwell, rows)
     error = h * response.deviation(times / th)

@@ -257,12 +257,15 @@ class FollowerResponse:
             out[~inside] = w.imag / d.omega_d[0]
         return out
 
-    def settling(self, tolerance: float) -> float | None:
+    def settling(self, tolerance: float, scale: float = 1.0) -> float | None:
         """u after the motion (in units of th) until the envelope stays within ``tolerance``
-        (a fraction of h); 0 if it already is; None if it never does (ζ = 0)."""
-        if self.residual_amplitude <= tolerance:
+        (in the units of ``scale``, h in them: a fraction of h by default); 0 if it already is;
+        None if it never does (ζ = 0)."""
+        residual = scale * self.residual_amplitude
+        if residual <= tolerance:
             return 0.0
         rate = float(self.damping.zeta_omega[0])
         if rate == 0.0:
             return None
-        return math.log(self.residual_amplitude / tolerance) / rate
+        # logs apart: tolerance / scale underflows to 0 for a tiny tolerance (5e-324 arcsec), its log does not
+        return (math.log(residual) - math.log(tolerance)) / rate

@@ -149,6 +149,21 @@ def test_undamped_vibration_above_the_tolerance_never_settles() -> None:
     assert quiet.settling_time_s == 0.0 and quiet.settles_within_dwell
 
 
+def test_the_smallest_tolerance_settles_where_the_envelope_says() -> None:
+    # issue 34, point 4: tolerance_arcsec = 5e-324 (the smallest double) answered 500: ε/h underflowed
+    # to 0 and the settling time divided by it. The envelope h·R·e^(−ζωn·t) reaches ε at
+    # t = ln(h·R/ε)/(ζωn), so two tolerances settle ln(ε1/ε2)/(ζωn) apart (ln taken of each: ε1/ε2 overflows)
+    unit = camcore.Indexer(**GUIDE)
+    coarse = indexer_vibration(unit, 2.25, 2e5, 0.05, 0.1)  # the residual is 1.34 arcsec: it settles later
+    finest = indexer_vibration(unit, 2.25, 2e5, 0.05, 5e-324)
+    assert coarse.settling_time_s is not None and finest.settling_time_s is not None
+    zeta_omega = 0.05 * math.sqrt(2e5 / 2.25)
+    # rel 1e-12: the logs are ~750, each exact to a few ulps, against ~50 s
+    assert finest.settling_time_s - coarse.settling_time_s == pytest.approx(
+        (math.log(0.1) - math.log(5e-324)) / zeta_omega, rel=1e-12)
+    assert finest.tolerance_arcsec == 5e-324
+
+
 def test_an_indexer_without_dwell_settles_only_if_already_settled() -> None:
     unit = camcore.Indexer(stops=4, indexing_angle_deg=360, speed_rpm=60)  # θh·z = 360°: no dwell
     result = indexer_vibration(unit, 1.0, 1e4, 0.1, 1.0, samples=11)
