@@ -90,7 +90,8 @@ def cores(quantity: str) -> float:
 def test_manifests_are_valid_kubernetes(version: str) -> None:
     docs = k8s_documents()
     assert {(d["apiVersion"], d["kind"]) for d in docs} == {
-        ("apps/v1", "Deployment"), ("v1", "Service"), ("autoscaling/v2", "HorizontalPodAutoscaler")}
+        ("apps/v1", "Deployment"), ("v1", "Service"), ("autoscaling/v2", "HorizontalPodAutoscaler"),
+        ("policy/v1", "PodDisruptionBudget"), ("networking.k8s.io/v1", "NetworkPolicy")}
     for doc in docs:
         kubernetes_validate.validate(doc, version, strict=True)
 
@@ -102,7 +103,7 @@ def test_the_validator_rejects_a_broken_manifest() -> None:
     with pytest.raises(kubernetes_validate.ValidationError):
         kubernetes_validate.validate(broken, K8S_VERSIONS[-1], strict=True)
     broken = copy.deepcopy(one("Deployment"))
-    broken["spec"]["replicas"] = "two"
+    broken["spec"]["template"]["spec"]["automountServiceAccountToken"] = "no"
     with pytest.raises(kubernetes_validate.ValidationError):
         kubernetes_validate.validate(broken, K8S_VERSIONS[-1], strict=True)
 
@@ -138,6 +139,63 @@ def test_service_and_autoscaler_point_at_the_deployment() -> None:
     assert 2 <= hpa["spec"]["minReplicas"] <= hpa["spec"]["maxReplicas"]
 
 
+def test_the_autoscaler_alone_owns_the_replica_count() -> None:
+    # a Deployment's spec.replicas is applied as written: with a count in the file, every
+    # `kubectl apply` sets a Deployment the HPA scaled out back to that count (the Kubernetes
+    # documentation, "Migrating Deployments and StatefulSets to horizontal autoscaling":
+    # https://kubernetes.io/docs/tasks/run-application/horizontal-pod-autoscale/#migrating-deployments-and-statefulsets-to-horizontal-autoscaling)
+    assert "replicas" not in one("Deployment")["spec"]
+
+
+def test_disruptions_and_spread_keep_replicas_answering() -> None:
+    deployment, pdb, hpa = one("Deployment"), one("PodDisruptionBudget"), one("HorizontalPodAutoscaler")
+    pod_labels = deployment["spec"]["template"]["metadata"]["labels"]
+    # a drain evicts one pod at a time, and the HPA's floor leaves at least one answering meanwhile
+    assert pdb["spec"]["selector"]["matchLabels"].items() <= pod_labels.items()
+    assert pdb["spec"]["maxUnavailable"] == 1 and "minAvailable" not in pdb["spec"]
+    assert hpa["spec"]["minReplicas"] - pdb["spec"]["maxUnavailable"] >= 1
+    # replicas spread over nodes and zones, never left unscheduled for it (ScheduleAnyway)
+    spread = {c["topologyKey"]: c for c in deployment["spec"]["template"]["spec"]["topologySpreadConstraints"]}
+    assert set(spread) == {"kubernetes.io/hostname", "topology.kubernetes.io/zone"}
+    for constraint in spread.values():
+        assert constraint["labelSelector"]["matchLabels"].items() <= pod_labels.items()
+        assert constraint["maxSkew"] == 1 and constraint["whenUnsatisfiable"] == "ScheduleAnyway"
+        assert constraint["matchLabelKeys"] == ["pod-template-hash"]
+
+
+def test_network_policy_admits_the_http_port_only() -> None:
+    policy, deployment = one("NetworkPolicy"), one("Deployment")
+    assert policy["spec"]["podSelector"]["matchLabels"].items() <= \
+        deployment["spec"]["template"]["metadata"]["labels"].items()
+    assert policy["spec"]["policyTypes"] == ["Ingress"]
+    (rule,) = policy["spec"]["ingress"]
+    assert rule["ports"] == [{"port": "http", "protocol": "TCP"}]
+    # the Service's target port is that same named port
+    (service_port,) = one("Service")["spec"]["ports"]
+    assert service_port["targetPort"] == "http" and "http" in {p["name"] for p in container()["ports"]}
+
+
+def test_api_key_is_a_mounted_secret_file_and_no_token_is_mounted() -> None:
+    from service.settings import Settings
+
+    pod = one("Deployment")["spec"]["template"]["spec"]
+    c = container()
+    assert pod["automountServiceAccountToken"] is False
+    assert not [e for e in c["env"] if "valueFrom" in e], "no Secret in an environment variable"
+    assert "CAMCORE_API_KEY" not in {e["name"] for e in c["env"]}
+    key_file = Path(container_env()["CAMCORE_API_KEY_FILE"])
+    volumes = {v["name"]: v for v in pod["volumes"]}
+    (mount,) = [m for m in c["volumeMounts"] if key_file.parent == Path(m["mountPath"])]
+    assert mount["readOnly"] is True
+    secret = volumes[mount["name"]]["secret"]
+    assert secret["secretName"] == "camcore" and "optional" not in secret, "no key, no pod: never an open service"
+    assert [item["path"] for item in secret["items"]] == [key_file.name]
+    # group-readable by the pod's group only (0440; YAML reads the octal literal)
+    assert secret["defaultMode"] == 0o440 and pod["securityContext"]["fsGroup"] == pod["securityContext"]["runAsGroup"]
+    # the service reads that variable: a file at that name becomes the key
+    assert "api_key_file" in Settings.model_fields
+
+
 def test_pod_runs_as_the_image_user_on_a_read_only_root() -> None:
     pod = one("Deployment")["spec"]["template"]["spec"]
     c = container()
@@ -169,7 +227,7 @@ def test_resources_fit_the_workers() -> None:
 
 @pytest.mark.anyio
 async def test_probe_path_needs_no_api_key() -> None:
-    # the Deployment may set CAMCORE_API_KEY (from a Secret); the kubelet's probes carry no key
+    # the Deployment sets a key (CAMCORE_API_KEY_FILE, its mounted Secret); the kubelet's probes carry no key
     from service.app import create_app
     from service.settings import Settings
 
