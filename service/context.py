@@ -10,7 +10,9 @@ from dataclasses import dataclass
 
 from camcore.profile import ProfileChecks
 from service.admission import WorkGate
+from service.answer_budget import AnswerBudget
 from service.cache import LRUCache
+from service.cad_pool import CadPool
 from service.curves.library import CurveLibrary
 from service.settings import Settings
 
@@ -29,12 +31,19 @@ class Context:
     profile_checks: LRUCache[ProfileChecks]
     #: encoded sizing answers by request: a spreadsheet recalculating asks the same again
     sizings: LRUCache[bytes]
+    #: the CAD kernel's processes (STEP, STL solids)
+    cad: CadPool
+    #: the bytes of answers held for open downloads
+    answers: AnswerBudget
 
     @classmethod
     def create(cls, settings: Settings) -> Context:
         return cls(settings=settings, gate=WorkGate(settings), curves=CurveLibrary(settings),
                    profile_checks=LRUCache(settings.profile_checks_cache_size),
-                   sizings=LRUCache(settings.sizing_cache_size, SIZING_CACHE_MAX_BYTES))
+                   sizings=LRUCache(settings.sizing_cache_size, SIZING_CACHE_MAX_BYTES),
+                   cad=CadPool(settings.cad_processes, settings.cad_max_tasks, settings.cad_idle_s,
+                               settings.work_deadline_s),
+                   answers=AnswerBudget(settings.max_answer_bytes_in_flight))
 
     def cache_stats(self) -> dict[str, dict[str, int]]:
         """Every cache's hit and miss counts (the health answer)."""

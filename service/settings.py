@@ -69,6 +69,16 @@ class Settings(BaseSettings):
     inline_work_s: float = Field(0.003, ge=0, le=0.05,
                                  description="a computation estimated at most this long runs on the event loop "
                                              "(no thread, slot or deadline: it costs less than they do)")
+    max_answer_bytes_in_flight: int = Field(
+        64 * 1024 * 1024, ge=1024 * 1024, le=1 << 40,
+        description="bytes of answers one worker holds for its open downloads; an answer that would pass it: 503 "
+                    "(one answer alone may pass it)")
+
+    # the CAD kernel (STEP, STL) in processes of its own, per worker (service/cad_pool.py)
+    cad_processes: int = Field(1, ge=1, le=16, description="kernel processes per worker (solids written at once)")
+    cad_max_tasks: int = Field(50, ge=1, le=100_000, description="solids a kernel process writes before it is replaced")
+    cad_idle_s: float = Field(60.0, gt=0, le=86_400,
+                              description="a kernel process without a solid this long exits (its memory goes back)")
 
     # caches: bounded by entry count; tables are cached only up to a row count
     curve_cache_size: int = Field(512, ge=0)

@@ -111,9 +111,13 @@ def choose_format(route: Route, chosen: str | None, body: Any, request: Request)
 
 async def answer(operation: Operation, fmt: Format, request: Request, spec: Any,
                  path_values: Mapping[str, str]) -> Response:
-    """Answer one request: :func:`compute_answer`, written in ``fmt``."""
+    """Answer one request: :func:`compute_answer`, written in ``fmt``, sent within the worker's
+    budget of answers in flight (service.answer_budget: 503 when it is used up)."""
+    answers = request.app.state.context.answers
+    answers.check_room()
     with located(operation):
-        return respond(await compute_answer(operation, fmt, request, spec, path_values), fmt)
+        result = await compute_answer(operation, fmt, request, spec, path_values)
+        return answers.hold(result, respond(result, fmt))
 
 
 def located(operation: Operation) -> AbstractContextManager[None]:
@@ -134,7 +138,7 @@ async def compute_answer(operation: Operation, fmt: Format, request: Request, sp
             return kept
     work = operation.estimate(ctx, core, fmt)
     if operation.warmup is not None:
-        await run_in_threadpool(operation.warmup, fmt)
+        await run_in_threadpool(operation.warmup, ctx, fmt)
     if operation.quick is not None and operation.quick(ctx, core, fmt):
         ctx.gate.check_budget(work)
         return operation.compute(ctx, core, fmt)

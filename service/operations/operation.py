@@ -87,7 +87,7 @@ class Operation:
     cached : callable or None
         ``cached(ctx, core, fmt) -> Answer | None``: an answer kept from before, given at once.
     warmup : callable or None
-        ``warmup(fmt)``: made ready in a thread before the work is admitted, outside its budget
+        ``warmup(ctx, fmt)``: made ready in a thread before the work is admitted, outside its budget
         (the CAD kernel's first load: the worker's start-up, not the request's work).
     located : callable or None
         A context manager around the whole answer that says where its errors are (a GET's
@@ -118,7 +118,7 @@ class Operation:
     path_parameters: Mapping[str, Any] = field(default_factory=dict)
     quick: Callable[[Context, Any, Format], bool] | None = None
     cached: Callable[[Context, Any, Format], Answer | None] | None = None
-    warmup: Callable[[Format], None] | None = None
+    warmup: Callable[[Context, Format], None] | None = None
     located: Callable[[], AbstractContextManager[None]] | None = None
     body_format: str | None = None
     format_requests: Mapping[str, type[BaseModel]] = field(default_factory=dict)

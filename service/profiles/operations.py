@@ -22,7 +22,6 @@ from camcore import export
 from camcore.curves.kinds import LawCost
 from camcore.errors import InvalidParameterError
 from camcore.export import FORMATS, SOLID_FORMATS, SolidCam
-from camcore.export.solid import load_kernel
 from camcore.profile import CamSpec, ProfileResult
 from camcore.results import as_dict
 from camcore.work import (
@@ -214,12 +213,12 @@ def _work(ctx: Context, body: ProfileRequest, fmt: Format) -> WorkEstimate:
                                          SOLID_FORMATS[fmt.name].cost(elements)),))
 
 
-def _warmup(fmt: Format) -> None:
-    # the CAD kernel loads on the first solid a worker makes (~1 s, once), outside the request's
-    # budget and deadline: it is the worker's start-up, and loading it at start would delay every
-    # worker's first answer by as much
+def _warmup(ctx: Context, fmt: Format) -> None:
+    # the CAD kernel's process starts (~1.5 s, the kernel's load) on the first solid after it was
+    # retired, outside the request's budget and deadline: it is start-up, and starting it with the
+    # worker would hold its memory in every worker that makes no solid (service/cad_pool.py)
     if fmt.name in SOLID_FORMATS:
-        load_kernel()
+        ctx.cad.warm()
 
 
 def _compute(ctx: Context, body: ProfileRequest, fmt: Format) -> Document | Payload:
@@ -228,7 +227,7 @@ def _compute(ctx: Context, body: ProfileRequest, fmt: Format) -> Document | Payl
         solid = _solid(body, fmt)
         item = SolidCam(cam(ctx, spec), solid.thickness_mm, solid.bore_diameter_mm, solid.tolerance_mm,
                         ctx.settings.max_toolpath_elements, ctx.settings.max_stl_triangles)
-        return Payload(SOLID_FORMATS[fmt.name].write(item))
+        return Payload(ctx.cad.write(fmt.name, item))  # in the CAD kernel's process
     result = profile(ctx, spec, body.samples, body.cam_angle_deg)
     if fmt.name in FORMATS:
         contour = export.Contour(result.x_mm, result.y_mm, result.cam_angle_deg, spec.base_radius_mm)
