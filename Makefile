@@ -9,8 +9,8 @@ PY := $(VENV)/bin/python
 .PHONY: serve test test-fast test-tools lint bench openapi
 
 # the quick tier: no external program (Chromium, LibreOffice, FreeCAD, node, wrk, a client generator, the
-# image's), no bench, no fuzz or property run, no docs block run by a program or a live server, no memory soak
-FAST_TESTS := not (chromium or libreoffice or freecad or node or wrk or generator or container or bench or fuzz or property or docs or soak)
+# image's, the image built), no bench, no fuzz or property run, no docs block run by a program or a live server, no memory soak
+FAST_TESTS := not (chromium or libreoffice or freecad or node or wrk or generator or container or image or bench or fuzz or property or docs or soak)
 
 $(VENV)/.installed: requirements.lock requirements-dev.lock pyproject.toml
 	python3 -m venv $(VENV)

@@ -32,7 +32,11 @@ def test_image_installs_the_runtime_lock_only() -> None:
     installs = [args for args in df.arguments("RUN") if "pip install" in args]
     assert len(installs) == 1, installs
     pip_args = installs[0].split("pip install", 1)[1].split("&&")[0].split()
-    assert pip_args == ["-r", "requirements.lock"]
+    # and no wheel or download cache left in the image (issue 34: the image had a 126 MB apt cache)
+    assert pip_args == ["--no-cache-dir", "-r", "requirements.lock"]
+    for args in df.arguments("RUN"):
+        if "apt-get install" in args:
+            assert "--no-install-recommends" in args and "rm -rf /var/lib/apt/lists/*" in args, args
     copied = " ".join(df.arguments("COPY")).split()
     assert "requirements.lock" in copied and "requirements-dev.lock" not in copied
     # the development tools are named in pyproject's dev extra; none of them is in the runtime lock
@@ -52,9 +56,14 @@ def test_make_builds_on_the_same_runtime_pins() -> None:
 
 
 def test_image_rules() -> None:
-    steps = df.instructions()
+    # two stages: the venv is made in the first, the runtime stage takes it (and the kernel's two GL
+    # libraries) without the build's tools, package lists and caches
+    froms = df.arguments("FROM")
+    assert froms == ["debian:bookworm-slim AS build", "debian:bookworm-slim"], froms
+    build_end = [i for i, (kw, _) in enumerate(df.instructions()) if kw == "FROM"][1]
+    steps = df.instructions()[build_end:]
     keywords = [kw for kw, _ in steps]
-    assert steps[0] == ("FROM", "python:3.11-slim")
+    build_steps = df.instructions()[:build_end]
     env = df.env()
     assert env["PYTHONUNBUFFERED"] == "1"
     assert env["MPLCONFIGDIR"].startswith("/tmp/"), "matplotlib's cache must go to the one writable place"
@@ -64,23 +73,27 @@ def test_image_rules() -> None:
     assert uid.isdigit() and int(uid) != 0 and (not gid or gid.isdigit()), user
     assert keywords.index("USER") > max(i for i, kw in enumerate(keywords) if kw == "RUN"), "RUN as root only"
 
+    # the build stage: only the lock file copied before the dependencies are installed, and the
+    # venv compiled after pip
+    build_copies = [args.split() for kw, args in build_steps if kw == "COPY"]
+    assert build_copies == [["requirements.lock", "./"]], build_copies
+    (install,) = [args for kw, args in build_steps if kw == "RUN" and "pip install" in args]
+    assert install.index("pip install") < install.index("-m compileall -q .venv/lib"), "compile the venv after pip"
     copies = [(i, args.split()) for i, (kw, args) in enumerate(steps) if kw == "COPY"]
-    install = next(i for i, (kw, args) in enumerate(steps) if kw == "RUN" and "pip install" in args)
-    code_dirs = [src for i, (src, _dst) in copies if i > install]
-    assert [i for i, (src, _) in copies if src == "requirements.lock"] == [i for i, _ in copies if i < install], \
-        "only the lock file is copied before the dependencies are installed"
+    venv = next(i for i, args in copies if args[:2] == ["--from=build", "/app/.venv"])
+    code_dirs = [args[0] for i, args in copies if i > venv]
     assert set(code_dirs) == {"camcore", "service"}, code_dirs
 
-    # bytecode compiled at build time, for the dependencies and for the code copied after them
+    # bytecode compiled at build time for the code copied after the venv
     compiles = [(i, args) for i, (kw, args) in enumerate(steps) if kw == "RUN" and "-m compileall" in args]
-    assert any(i == install and ".venv/lib" in args for i, args in compiles), "compile the venv after pip"
     for name in code_dirs:
         assert any(i > max(j for j, _ in copies) and re.search(rf"\b{name}\b", args.split("compileall", 1)[1])
                    for i, args in compiles), f"{name} not compiled after it is copied"
 
 
 def test_cmd_starts_through_python_m_service() -> None:
-    (workdir,) = df.arguments("WORKDIR")
+    # both stages work in the same folder: the venv's scripts name their python by its path
+    (workdir,) = set(df.arguments("WORKDIR"))
     assert df.cmd() == [f"{workdir}/.venv/bin/python", "-m", "service"]
     assert df.exposed_ports() == [int(df.env()["CAMCORE_PORT"])]
 
@@ -115,8 +128,8 @@ sys.meta_path.insert(0, DevelopmentOnly())
 
 def development_only_modules() -> set[str]:
     """Top-level modules that only distributions of requirements-dev.lock provide."""
-    # setuptools stays: the image's venv has its own (python -m venv installs it on 3.11)
-    dev_only = set(pins(ROOT / "requirements-dev.lock", follow=False)) - {"setuptools"}
+    # pip and setuptools are not in the image either (the Dockerfile uninstalls them from its venv)
+    dev_only = set(pins(ROOT / "requirements-dev.lock", follow=False)) | {"pip", "setuptools"}
     # a backport whose module the standard library has (argparse, which pygcode asks for) is
     # shadowed by the standard library's own, which the image has
     return {module for module, dists in metadata.packages_distributions().items()
@@ -134,7 +147,8 @@ def free_port() -> int:
 def test_cmd_serves_health_with_port_and_workers_from_the_environment(tmp_path: Path) -> None:
     # the image's /app holds what the Dockerfile copies after the venv: copy exactly that here
     app_dir = tmp_path / "app"
-    copies = [args.split() for args in df.arguments("COPY")]
+    # (the build stage's files, COPY --from=build, are what this venv already holds)
+    copies = [args.split() for args in df.arguments("COPY") if not args.startswith("--from=")]
     for src, dst in copies:
         if src != "requirements.lock":
             shutil.copytree(ROOT / src, app_dir / dst, ignore=shutil.ignore_patterns("__pycache__"))
