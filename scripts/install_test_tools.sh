@@ -9,6 +9,9 @@
 #     libreoffice-draw-nogui, -calc-nogui   soffice --headless: Draw renders our DXF, Calc a sheet
 #     nodejs, npm                           the TypeScript client test (only with clients/typescript)
 #     libgl1, libx11-6                      the CAD kernel (cadquery-ocp-novtk) loads libGL and libX11
+#     podman, runc, debootstrap             tests/project/test_image.py: scripts/make_base_image.sh makes the base
+#                                           with debootstrap, podman builds the image (buildah's code, inside it) and
+#                                           runs it; runc, as Debian 12's crun refuses hosts with cgroups in hybrid mode
 #     freecad-python3                       tests/clients/test_freecad_macro.py: freecadcmd runs the FreeCAD macro
 #                                           (Part and freecadcmd; the `freecad` package adds only a 54 kB shell;
 #                                           ~1.3 GB with its Qt and OpenCASCADE, --no-install-recommends)
@@ -41,6 +44,9 @@ missing_packages() {
     grep -q 'libGL\.so\.1 ' <<<"$libs" || pkgs+=(libgl1)
     grep -q 'libX11\.so\.6 ' <<<"$libs" || pkgs+=(libx11-6)
     have freecadcmd || pkgs+=(freecad-python3)
+    have podman || pkgs+=(podman)
+    have runc || pkgs+=(runc)
+    have debootstrap || pkgs+=(debootstrap)
     if [ -f "$TS_DIR/package.json" ]; then
         have node || pkgs+=(nodejs)
         have npm || pkgs+=(npm)
