@@ -179,6 +179,8 @@ async def validation_error_handler(request: Request, exc: Exception) -> JSONBody
         broken = (err.get("ctx") or {}).get("error")
         if isinstance(broken, FieldRuleError):  # a model's rule: at its field, not at the model
             loc += broken.field
+        elif isinstance(broken, CamError):  # camcore's rule called by a model's validator: at the field it names
+            loc += request_field(broken)
         msg = _clean_message(str(err.get("msg", "invalid value")))
         errors.append({"loc": loc, "msg": msg})
     if malformed:

@@ -11,10 +11,12 @@ naming the limit.
 from __future__ import annotations
 
 import json
+import sys
 from collections.abc import Mapping, Sequence
 from typing import Annotated, Any, Literal, Self
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, GetJsonSchemaHandler, PrivateAttr
+import numpy as np
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, GetJsonSchemaHandler, PrivateAttr, field_validator
 from pydantic.json_schema import JsonSchemaValue
 from pydantic_core import CoreSchema, PydanticCustomError
 
@@ -102,11 +104,79 @@ class DefaultsInDescriptions(BaseModel):
         return schema
 
 
+#: the smallest normal double; a nonzero number below it in magnitude is subnormal
+SMALLEST_NORMAL = sys.float_info.min
+SUBNORMAL_RULE = (f"must be 0 or at least {SMALLEST_NORMAL!r} in magnitude (the smallest normal double): a subnormal "
+                  "number has too few significant digits to compute with, and its reciprocal or square overflows")
+
+
+def _subnormal_at(value: object) -> tuple[int, ...] | None:
+    """Where a subnormal number sits in a field's value (() for the value itself, list indices
+    below it), or None. Nested models check their own fields."""
+    if isinstance(value, float):
+        return () if 0.0 < abs(value) < SMALLEST_NORMAL else None
+    if not isinstance(value, list | tuple) or not value:
+        return None
+    try:  # lists of numbers (200 000 of them, or points), at numpy's pace
+        array = np.abs(np.asarray(value, dtype=np.float64))
+    except (TypeError, ValueError):  # models, text, ragged lists: one by one
+        for i, item in enumerate(value):
+            inner = _subnormal_at(item)
+            if inner is not None:
+                return (i, *inner)
+        return None
+    hits = np.flatnonzero((array > 0.0) & (array < SMALLEST_NORMAL))
+    if not hits.size:
+        return None
+    return tuple(int(i) for i in np.unravel_index(int(hits[0]), array.shape))
+
+
+#: :data:`SUBNORMAL_RULE` in JSON Schema, on every number of a spec: not (nonzero and within ±SMALLEST_NORMAL)
+NOT_SUBNORMAL: dict[str, Any] = {"not": {"exclusiveMinimum": -SMALLEST_NORMAL, "exclusiveMaximum": SMALLEST_NORMAL,
+                                         "not": {"const": 0}}}
+
+
+def _state_not_subnormal(schema: dict[str, Any]) -> None:
+    """Add :data:`NOT_SUBNORMAL` to a field's number schemas (in place): the number itself, the
+    items of its lists, the members of its unions (``null``); models state their own."""
+    bounded = max(schema.get("minimum", -1.0), schema.get("exclusiveMinimum", -1.0)) >= SMALLEST_NORMAL
+    if schema.get("type") == "number" and "not" not in schema and not bounded:  # a bound at 1 µm says it already
+        schema.update(NOT_SUBNORMAL)
+    for key in ("items", "additionalProperties"):
+        if isinstance(schema.get(key), dict):
+            _state_not_subnormal(schema[key])
+    for key in ("anyOf", "oneOf", "prefixItems"):
+        for member in schema.get(key, []):
+            _state_not_subnormal(member)
+
+
 class Spec(DefaultsInDescriptions):
-    """A request model: unknown fields are refused, defaults are described (see the base class)."""
+    """A request model: unknown fields are refused, defaults are described (see the base class),
+    and no number is subnormal (:data:`SUBNORMAL_RULE`)."""
 
     model_config = ConfigDict(extra="forbid")
     _cache_key: str | None = PrivateAttr(None)
+
+    @classmethod
+    def __get_pydantic_json_schema__(cls, core_schema: CoreSchema, handler: GetJsonSchemaHandler) -> JsonSchemaValue:
+        schema = super().__get_pydantic_json_schema__(core_schema, handler)
+        for prop in handler.resolve_ref_schema(schema).get("properties", {}).values():
+            _state_not_subnormal(prop)
+        return schema
+
+    @field_validator("*", mode="after")
+    @classmethod
+    def _not_subnormal(cls, value: Any) -> Any:
+        # 1e-310 in a length, speed or ratio passed every bound (> 0) and failed deep in camcore as
+        # an overflow or a non-finite result that named no field (issue 34); no quantity of a cam
+        # is that small, so it is refused here, at its field (and index)
+        at = _subnormal_at(value)
+        if at is not None:
+            number = value
+            for i in at:
+                number = number[i]
+            raise FieldRuleError(f"{number!r} {SUBNORMAL_RULE}", *at)
+        return value
 
     def cache_key(self) -> str:
         """The spec's JSON with every field, defaults included: the key of the service's

@@ -92,21 +92,23 @@ class LiftSchedule:
 
     def __init__(self, segments: Sequence[Segment], initial: float = 0.0, unit: str = "mm"):
         if not segments:
-            raise InvalidParameterError("A lift schedule needs at least one segment.")
+            raise InvalidParameterError("A lift schedule needs at least one segment.", field=("segments",))
         total = 0.0
         for i, seg in enumerate(segments):
             if seg.type not in ("rise", "dwell", "return"):
                 raise InvalidParameterError(
-                    f"segments[{i}]: type must be 'rise', 'dwell' or 'return', not {seg.type!r}.")
+                    f"segments[{i}]: type must be 'rise', 'dwell' or 'return', not {seg.type!r}.", field=("segments", i))
             if not (math.isfinite(seg.angle_deg) and seg.angle_deg > 0):
-                raise InvalidParameterError(f"segments[{i}]: angle_deg must be a positive number of degrees.")
+                raise InvalidParameterError(f"segments[{i}]: angle_deg must be a positive number of degrees.",
+                                            field=("segments", i, "angle_deg"))
             if seg.type != "dwell" and not (math.isfinite(seg.amount) and seg.amount >= 0):
                 raise InvalidParameterError(
-                    f"segments[{i}]: the {seg.type} must be a finite, non-negative lift (it is {seg.amount!r}).")
+                    f"segments[{i}]: the {seg.type} must be a finite, non-negative lift (it is {seg.amount!r}).",
+                    field=("segments", i))
             total += seg.angle_deg
         if abs(total - 360.0) > ANGLE_TOLERANCE_DEG:
             raise InvalidParameterError(
-                f"The segment angles add to {total!r}°; they must add to 360° (one cam turn).")
+                f"The segment angles add to {total!r}°; they must add to 360° (one cam turn).", field=("segments",))
         pieces: list[_Piece] = []
         level = float(initial)
         start = 0.0
@@ -121,18 +123,19 @@ class LiftSchedule:
                 if s1 == s0 or (seg.type == "rise") != (s1 > s0):
                     raise InvalidParameterError(
                         f"segments[{i}]: the curve of a {seg.type} must run from S0 to a different S7 "
-                        "(give the rising curve; a return plays it backwards).")
+                        "(give the rising curve; a return plays it backwards).", field=("segments", i, "curve"))
                 amount = seg.amount if seg.type == "rise" else -seg.amount
                 pieces.append(_Piece(start, span, level, amount, curve, s0, s1))
                 level += amount
                 if level < -CLOSURE_TOLERANCE:
                     raise GeometryError(
-                        f"segments[{i}]: the return drops the follower {-level!r} below the base circle.")
+                        f"segments[{i}]: the return drops the follower {-level!r} below the base circle.",
+                        field=("segments", i))
             start += span
         if abs(level - initial) > CLOSURE_TOLERANCE * max(1.0, abs(initial)):
             raise InvalidParameterError(
                 f"The schedule does not close: it ends at {level!r} {unit} but starts at {initial!r} {unit}; "
-                "the rises must equal the returns over one turn.")
+                "the rises must equal the returns over one turn.", field=("segments",))
         self.segments = tuple(segments)
         self.unit = unit
         self.initial = float(initial)
@@ -211,7 +214,7 @@ def periods_per_turn(span_deg: float, rotation_ratio: float, what: str) -> int:
     if not periods <= MAX_PERIODS_PER_TURN:  # also inf, from a vanishing rotation_ratio
         raise InvalidParameterError(
             f"One cam turn is {drive_per_turn!r}° of drive angle (360°/rotation_ratio), more than "
-            f"{MAX_PERIODS_PER_TURN} periods of {what} ({span_deg!r}°): raise rotation_ratio.")
+            f"{MAX_PERIODS_PER_TURN} periods of {what} ({span_deg!r}°): raise rotation_ratio.", field=("rotation_ratio",))
     if abs(periods - round(periods)) > 1e-9 * max(1.0, periods) or round(periods) < 1:
         raise InvalidParameterError(
             f"One cam turn is {drive_per_turn!r}° of drive angle (360°/rotation_ratio); {what} repeats every "

@@ -11,7 +11,7 @@ from camcore.cams.parallel import Contacts, ParallelChecks, PlateChecks, check_p
 from service.curves.specs import MS_SPEC, CurveSpec, NamedCurveSpec
 from service.models import answer_model
 from service.profiles.specs import PositiveLength
-from service.specs import JSON_INTEGER, DefaultsInDescriptions, Spec, examples
+from service.specs import JSON_INTEGER, DefaultsInDescriptions, FieldRuleError, Spec, examples
 
 #: sampled cam angles per turn, at most: the plates' paths are 8 points per sample and roller
 MAX_PARALLEL_SAMPLES = 721
@@ -57,7 +57,7 @@ class ParallelCamRequest(Spec):
     def _check(self) -> ParallelCamRequest:
         m = self.rollers_per_plate or self.stops
         if m % self.stops:
-            raise ValueError(f"{MULTIPLE_RULE}, got {m} rollers for {self.stops} stops")
+            raise FieldRuleError(f"{MULTIPLE_RULE}, got {m} rollers for {self.stops} stops", "rollers_per_plate")
         # camcore's rules and sentences (a ValueError: 422)
         check_parallel_geometry(self.stops, self.plates, m, self.center_distance_mm, self.roller_pitch_radius_mm,
                                 self.roller_radius_mm)

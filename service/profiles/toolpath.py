@@ -19,7 +19,7 @@ from service.context import Context
 from service.operations import JSON, Alias, Format, Operation, Payload, Raw, download
 from service.profiles.operations import cam, schedule_field, schedule_work, segment_count, strokes_mm
 from service.profiles.specs import ROLLER_PROFILE_EXAMPLE, ProfileSpec
-from service.specs import BIG, DefaultsInDescriptions, Spec, examples, one_of_values, rule
+from service.specs import BIG, DefaultsInDescriptions, FieldRuleError, Spec, examples, one_of_values, rule
 
 #: a roller follower (the condition of a groove)
 ROLLER = {"properties": {"follower": {"required": ["type"], "properties": {"type": {"const": "roller"}}}},
@@ -62,9 +62,9 @@ class ToolpathRequest(Spec):
     @model_validator(mode="after")
     def _check(self) -> ToolpathRequest:
         if self.side == "groove" and self.profile.follower.type != "roller":
-            raise ValueError("a groove is the track of a roller: give a roller follower")
+            raise FieldRuleError("a groove is the track of a roller: give a roller follower", "side")
         if self.cut_z_mm >= self.safe_z_mm:
-            raise ValueError("cut_z_mm must be below safe_z_mm (the rapid moves run above the cut)")
+            raise FieldRuleError("cut_z_mm must be below safe_z_mm (the rapid moves run above the cut)", "cut_z_mm")
         return self
 
 

@@ -69,7 +69,7 @@ CASES = [
     ("POST", "/v1/curves/inverse", {"curve": {"type": "points", "t": [0, 1, 2, 3], "s": [0, 5, 10, 5]}, "s": [1]},
      422, ["body", "curve"], "not monotone"),
     ("POST", "/v1/profiles", {"profile": {"follower": {}, "base_radius_mm": 15, "segments": segments(return_mm=10)}},
-     422, ["body", "profile"], "does not close"),
+     422, ["body", "profile", "segments"], "does not close"),
     ("POST", "/v1/profiles", {"profile": {"follower": ROLLER_ON_AN_ARM, "base_radius_mm": 20, "segments": [
         {"type": "rise", "angle_deg": 180, "swing_deg": 10}, {"type": "return", "angle_deg": 180, "swing_deg": 10}]}},
      422, ["body", "profile"], "arm cannot be assembled"),

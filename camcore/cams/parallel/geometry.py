@@ -157,27 +157,28 @@ def check_parallel_geometry(stops: int, plates: int, rollers_per_plate: int, cen
     count("stops", stops)
     count("rollers_per_plate", rollers_per_plate)
     if plates not in (2, 3):
-        raise InvalidParameterError(f"plates must be 2 or 3, not {plates!r}.")
+        raise InvalidParameterError(f"plates must be 2 or 3, not {plates!r}.", field=("plates",))
     if rollers_per_plate % stops:
         raise InvalidParameterError(
             f"rollers_per_plate must be a multiple of stops (each index moves every layer onto itself), "
-            f"got {rollers_per_plate} rollers for {stops} stops.")
+            f"got {rollers_per_plate} rollers for {stops} stops.", field=("rollers_per_plate",))
     c = positive("center_distance_mm", center_distance_mm)
     rp = positive("roller_pitch_radius_mm", roller_pitch_radius_mm)
     rr = positive("roller_radius_mm", roller_radius_mm)
     if min(rp, rr) < SMALLEST_SHARE * c:
         raise GeometryError(
             f"roller_pitch_radius_mm {rp!r} and roller_radius_mm {rr!r} must each be at least "
-            f"{SMALLEST_SHARE:.1%} of center_distance_mm {c!r}: smaller ones are below the plates' resolution.")
+            f"{SMALLEST_SHARE:.1%} of center_distance_mm {c!r}: smaller ones are below the plates' resolution.",
+            field=("roller_pitch_radius_mm",) if rp <= rr else ("roller_radius_mm",))
     chord = 2 * rp * math.sin(math.pi / rollers_per_plate)
     if rollers_per_plate > 1 and not chord > 2 * rr:
         raise GeometryError(
             f"The rollers of a plate collide: neighbours {chord!r} mm apart (2·Rp·sin(180°/m)) need more than "
-            f"twice the roller radius, {2 * rr!r} mm.")
+            f"twice the roller radius, {2 * rr!r} mm.", field=("roller_radius_mm",))
     if not c - rp - rr > 0:
         raise GeometryError(
             f"The rollers reach the cam axis: center_distance_mm {c!r} must exceed roller_pitch_radius_mm + "
-            f"roller_radius_mm = {rp + rr!r}.")
+            f"roller_radius_mm = {rp + rr!r}.", field=("center_distance_mm",))
 
 
 def make_parallel_cam(stops: int, center_distance_mm: float, roller_pitch_radius_mm: float,

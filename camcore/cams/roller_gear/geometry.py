@@ -109,7 +109,7 @@ def check_roller_gear_geometry(stops: int, center_distance_mm: float, roller_pit
     if n < MIN_STOPS:
         raise InvalidParameterError(
             f"stops must be at least {MIN_STOPS} for a roller-gear cam with one rib: the rollers making its flanks "
-            f"swing through ±360°/stops about the line of centres and must stay short of 90°, got {n}.")
+            f"swing through ±360°/stops about the line of centres and must stay short of 90°, got {n}.", field=("stops",))
     c = positive("center_distance_mm", center_distance_mm)
     rp = positive("roller_pitch_radius_mm", roller_pitch_radius_mm)
     rr = positive("roller_radius_mm", roller_radius_mm)
@@ -117,22 +117,23 @@ def check_roller_gear_geometry(stops: int, center_distance_mm: float, roller_pit
     if min(rp, rr, length) < SMALLEST_SHARE * c:
         raise GeometryError(
             f"roller_pitch_radius_mm {rp!r}, roller_radius_mm {rr!r} and roller_length_mm {length!r} must each be at "
-            f"least {SMALLEST_SHARE:.1%} of center_distance_mm {c!r}.")
+            f"least {SMALLEST_SHARE:.1%} of center_distance_mm {c!r}.",
+            field=(min((rp, "roller_pitch_radius_mm"), (rr, "roller_radius_mm"), (length, "roller_length_mm"))[1],))
     r_in, r_out = rp - length / 2, rp + length / 2
     if not r_in > 0:
         raise GeometryError(
             f"The rollers cross the turret's axis: roller_length_mm {length!r} must be less than twice "
-            f"roller_pitch_radius_mm, {2 * rp!r}.")
+            f"roller_pitch_radius_mm, {2 * rp!r}.", field=("roller_length_mm",))
     half_pitch = math.pi / n
     if not r_in * math.sin(half_pitch) > rr:
         raise GeometryError(
             f"The rollers leave no room for the rib: neighbours stand 2·r_in·sin(180°/stops) = "
             f"{2 * r_in * math.sin(half_pitch)!r} mm apart at their inner ends (r_in = roller_pitch_radius_mm − "
-            f"roller_length_mm/2), which must exceed twice the roller radius, {2 * rr!r} mm.")
+            f"roller_length_mm/2), which must exceed twice the roller radius, {2 * rr!r} mm.", field=("roller_radius_mm",))
     if not c - r_out > 0:
         raise GeometryError(
             f"The rollers reach the cam axis: center_distance_mm {c!r} must exceed roller_pitch_radius_mm + "
-            f"roller_length_mm/2 = {r_out!r}.")
+            f"roller_length_mm/2 = {r_out!r}.", field=("center_distance_mm",))
 
 
 def make_roller_gear_cam(stops: int, center_distance_mm: float, roller_pitch_radius_mm: float,
