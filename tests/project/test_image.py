@@ -13,6 +13,7 @@ Figures go to stderr (``pytest -s`` shows them) and to build/image-figures.json.
 
 from __future__ import annotations
 
+import asyncio
 import json
 import os
 import resource
@@ -27,6 +28,7 @@ import httpx
 import pytest
 import yaml
 
+from scripts import soak
 from tests import dockerfile_instructions as df
 from tests.docs_blocks import ROOT, blocks
 from tests.project.test_deploy import cores, mib
@@ -116,23 +118,19 @@ def test_image_is_small_and_keeps_its_healthcheck(image: str) -> None:
     assert [line for line in leftovers.stdout.splitlines() if line.strip()] == []
 
 
-@pytest.fixture(scope="module")
-def pod(image: str, tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, str]]:
-    """The image run as deploy/kubernetes/deployment.yaml runs it; yields its base URL and container."""
-    folder = tmp_path_factory.mktemp("pod")
-    key_file = folder / "api-key"
-    key_file.write_text(KEY + "\n", encoding="utf-8")
-    key_file.chmod(0o444)  # the Secret's 0440 to group 10001, as the uid here is not that group
+def start_as_deployed(image: str, key_file: Path | None) -> tuple[str, str, float]:
+    """The image run as deploy/kubernetes/deployment.yaml runs its pod: container, URL, seconds to /health."""
     env = {e["name"]: e["value"] for e in CONTAINER["env"] if "value" in e}
     limits = CONTAINER["resources"]["limits"]
     uid, gid = POD["securityContext"]["runAsUser"], POD["securityContext"]["runAsGroup"]
     port = env["CAMCORE_PORT"]
+    key_file_in_pod = env.pop("CAMCORE_API_KEY_FILE")
     args = [*podman(), "run", "--detach", *ulimits(), "--read-only", "--tmpfs", "/tmp:rw,size=64m",
             "--user", f"{uid}:{gid}", "--cap-drop", "ALL", "--security-opt", "no-new-privileges",
             "--memory", f"{int(mib(limits['memory']))}m", "--memory-swap", f"{int(mib(limits['memory']))}m",
-            "--cpus", str(cores(limits["cpu"])),
-            "-v", f"{key_file}:{env['CAMCORE_API_KEY_FILE']}:ro",
-            "--publish", f"127.0.0.1::{port}"]
+            "--cpus", str(cores(limits["cpu"])), "--publish", f"127.0.0.1::{port}"]
+    if key_file is not None:
+        args += ["-v", f"{key_file}:{key_file_in_pod}:ro", "--env", f"CAMCORE_API_KEY_FILE={key_file_in_pod}"]
     for name, value in env.items():
         args += ["--env", f"{name}={value}"]
     started = time.monotonic()
@@ -140,14 +138,33 @@ def pod(image: str, tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[
     try:
         (mapping,) = run(*podman(), "port", container, f"{port}/tcp").stdout.split()
         url = f"http://{mapping}"
-        first_health = wait_for_health(url, started, container)
+        return container, url, wait_for_health(url, started, container)
+    except BaseException:
+        stop(container)
+        raise
+
+
+def stop(container: str, log: Path | None = None) -> None:
+    if log is not None:
+        logs = subprocess.run([*podman(), "logs", container], capture_output=True, text=True, check=False)
+        log.write_text(logs.stdout + logs.stderr, encoding="utf-8")
+    subprocess.run([*podman(), "rm", "--force", "--time", "5", container], capture_output=True, check=False)
+
+
+@pytest.fixture(scope="module")
+def pod(image: str, tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, str]]:
+    """The first pod of a newly built image, with the API key in its file; its URL and container."""
+    folder = tmp_path_factory.mktemp("pod")
+    key_file = folder / "api-key"
+    key_file.write_text(KEY + "\n", encoding="utf-8")
+    key_file.chmod(0o444)  # the Secret's 0440 to group 10001, as the uid here is not that group
+    container, url, first_health = start_as_deployed(image, key_file)
+    try:
         record(first_health_s=round(first_health, 2))
         assert first_health < STARTUP_BUDGET_S
         yield url, container
     finally:
-        logs = subprocess.run([*podman(), "logs", container], capture_output=True, text=True, check=False)
-        (folder / "container.log").write_text(logs.stdout + logs.stderr, encoding="utf-8")
-        subprocess.run([*podman(), "rm", "--force", "--time", "5", container], capture_output=True, check=False)
+        stop(container, folder / "container.log")
 
 
 def wait_for_health(url: str, started: float, container: str) -> float:
@@ -198,13 +215,26 @@ def test_healthcheck_and_memory_limit_in_the_pod(pod: tuple[str, str]) -> None:
     record(peak_memory_mib=round(int(peak) / 2**20))
 
 
-def test_second_start_of_the_image(image: str, pod: tuple[str, str]) -> None:
-    # a pod rescheduled on a node that has the image: the page cache holds its files
-    started = time.monotonic()
-    container = run(*podman(), "run", "--detach", *ulimits(), "--read-only", "--tmpfs", "/tmp",
-                    "--user", "10001:10001", "--publish", "127.0.0.1::8000", image).stdout.strip()
+def test_second_pod_starts_and_holds_a_short_soak(image: str, pod: tuple[str, str], tmp_path: Path) -> None:
+    # a pod rescheduled on a node that has the image (its files in the page cache), then the memory
+    # soak of tests/service/test_soak.py (scripts/soak.py: mixed traffic, STEP and STL exports,
+    # stalled downloads) for CAMCORE_IMAGE_SOAK_S seconds, within the Deployment's memory limit;
+    # no key here (the soak sends none)
+    container, url, health = start_as_deployed(image, None)
     try:
-        (mapping,) = run(*podman(), "port", container, "8000/tcp").stdout.split()
-        record(second_health_s=round(wait_for_health(f"http://{mapping}", started, container), 2))
+        record(second_health_s=round(health, 2))
+        seconds = float(os.environ.get("CAMCORE_IMAGE_SOAK_S", "30"))
+        pid = int(run(*podman(), "inspect", "--format", "{{.State.Pid}}", container).stdout)  # as the host sees it
+        memory, tally = asyncio.run(soak.soak(url, pid, 1, seconds, connections=32, exporters=4, stallers=32,
+                                              stall_s=min(40.0, seconds), seed=1))
+        figures = soak.report(memory, tally, seconds, {})
+        (peak,) = figures["worker_with_children_peak_mib"].values()
+        record(soak_s=seconds, soak_worker_with_kernel_peak_mib=peak)
+        state = json.loads(run(*podman(), "inspect", "--format", "{{json .State}}", container).stdout)
+        assert state["Status"] == "running" and not state["OOMKilled"], state
+        assert figures["unexpected"] == {}, figures
+        statuses = figures["statuses"]
+        assert statuses.get("step 200", 0) and statuses.get("stl 200", 0), statuses
+        assert peak < mib(CONTAINER["resources"]["limits"]["memory"]), figures
     finally:
-        subprocess.run([*podman(), "rm", "--force", "--time", "5", container], capture_output=True, check=False)
+        stop(container, tmp_path / "container.log")
