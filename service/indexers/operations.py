@@ -39,6 +39,7 @@ from service.indexers.specs import (
     MOTION_EXAMPLES,
     POSITION_EXAMPLES,
     SIZING_EXAMPLES,
+    SMALLEST,
     AccuracyAnswer,
     IndexerSpec,
     MotionAnswer,
@@ -51,6 +52,7 @@ from service.indexers.specs import (
 from service.motions.operations import program_work, resolve
 from service.operations import JSON, PNG, SVG, Document, Format, Operation, Payload, Raw, Table, csv
 from service.responses import JSONBody, check_finite
+from service.specs import BIG
 
 T = TypeVar("T")
 
@@ -227,12 +229,13 @@ class IndexerPlotQuery(ChartQuery):
     """The fields of IndexerSpec, with the curve given by its catalog name."""
 
     stops: int | None = Field(None, ge=1, le=100_000, description="n, stops per output turn")
-    swing_angle_deg: float | None = Field(None, gt=0, le=360, allow_inf_nan=False,
+    # IndexerSpec's bounds (SMALLEST, BIG), which this query is checked against again: the document says what is kept
+    swing_angle_deg: float | None = Field(None, ge=SMALLEST, le=360, allow_inf_nan=False,
                                           description="ψ, output swing (instead of stops)")
-    indexing_angle_deg: float = Field(gt=0, le=360, allow_inf_nan=False, description="θh, input angle per index")
+    indexing_angle_deg: float = Field(ge=SMALLEST, le=360, allow_inf_nan=False, description="θh, input angle per index")
     dwells: int = Field(1, ge=1, le=360, description="z, indexes per input turn")
-    speed_rpm: float | None = Field(None, gt=0, le=1e6, allow_inf_nan=False, description="N, input speed")
-    cycle_time_s: float | None = Field(None, gt=0, le=1e6, allow_inf_nan=False,
+    speed_rpm: float | None = Field(None, ge=SMALLEST, le=BIG, allow_inf_nan=False, description="N, input speed")
+    cycle_time_s: float | None = Field(None, ge=SMALLEST, le=BIG, allow_inf_nan=False,
                                        description="t0, unit cycle time (instead of speed_rpm)")
     input_stop_time_s: float = Field(0.0, ge=0, le=1e6, allow_inf_nan=False)
     curve: str = Field("MS", min_length=1, max_length=80, description="catalog curve: id, alias or Makino number")

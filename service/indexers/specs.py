@@ -35,8 +35,10 @@ from service.specs import (
     together,
 )
 
-#: physical lower bounds: a subnormal speed or time would make th² underflow to zero
-Positive = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-6, le=BIG)]
+#: physical lower bound of an indexer's speeds, times and angles: a subnormal speed or time would
+#: make th² underflow to zero. The chart's query (service.indexers.operations) keeps the same bounds
+SMALLEST = 1e-6
+Positive = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=SMALLEST, le=BIG)]
 NonNegative = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, le=BIG)]
 
 #: the guide's worked example: 6 stops, θh = 270°, MS, 60 rpm (INDEXMAN technical guide)
@@ -85,9 +87,9 @@ class IndexerSpec(Spec):
                rule(DWELL_CENTRE_RULE, {"if": given("timing"), "then": {"properties": {
                    "input_angle_origin": {"not": {"const": "dwell-centre"}}}}})])
     stops: Annotated[int, Field(ge=1, le=100_000), JSON_INTEGER] | None = Field(None, description="n, stops per output turn")
-    swing_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-6, le=360)] | None = Field(
+    swing_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=SMALLEST, le=360)] | None = Field(
         None, description="ψ, output swing of an oscillating unit (instead of stops)")
-    indexing_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-6, le=360)] | None = Field(
+    indexing_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=SMALLEST, le=360)] | None = Field(
         None, description="θh, input angle per index (needed without a timing chart)")
     dwells: Annotated[int, Field(ge=1, le=360), JSON_INTEGER] = Field(1, description="z, indexes per input turn")
     speed_rpm: Positive | None = Field(None, description="N, input speed")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import httpx
 import pytest
@@ -130,3 +131,23 @@ async def test_the_same_sizing_again_comes_from_the_cache(client: httpx.AsyncCli
     assert again.content == first.content and again.headers["content-type"] == "application/json"
     assert after["hits"] - before["hits"] == 1 and after["misses"] - before["misses"] == 2
     assert other.json()["inertia_kgm2"] > first.json()["inertia_kgm2"]
+
+
+async def test_the_chart_query_keeps_the_bounds_the_indexer_spec_checks(client: httpx.AsyncClient) -> None:
+    # issue 34, point 4: ?indexing_angle_deg=5e-7 was answered "≥ 0.000001" (IndexerSpec's bound, the
+    # query is checked against it again) where the document said only > 0 for the query parameter
+    doc = (await client.get("/openapi.json")).json()
+    spec = doc["components"]["schemas"]["IndexerSpec"]["properties"]
+    params = {p["name"]: p["schema"] for p in doc["paths"]["/v1/indexers/plot"]["get"]["parameters"]}
+
+    def bounds(schema: dict[str, Any]) -> dict[str, Any]:
+        number = next((s for s in schema.get("anyOf", [schema]) if s.get("type") == "number"), {})
+        return {k: number.get(k) for k in ("minimum", "exclusiveMinimum", "maximum", "exclusiveMaximum")}
+
+    shared = [name for name in params if name in spec and bounds(spec[name])["minimum"] is not None]
+    assert {"indexing_angle_deg", "swing_angle_deg", "speed_rpm", "cycle_time_s"} <= set(shared)
+    for name in shared:
+        assert bounds(params[name]) == bounds(spec[name]), name
+    r = await client.get("/v1/indexers/plot", params={**GUIDE, "indexing_angle_deg": 5e-7})
+    assert r.status_code == 422 and r.json()["errors"][0]["loc"] == ["query", "indexing_angle_deg"]
+    assert params["indexing_angle_deg"]["minimum"] == 1e-6 and "greater than or equal to 0.000001" in r.text
