@@ -46,6 +46,7 @@ from service.profiles.charts import profile_chart
 from service.profiles.specs import (
     BASE_CIRCLE_EXAMPLES,
     PROFILE_EXAMPLES,
+    PROFILE_REQUEST_RULES,
     ROLLER_PROFILE_EXAMPLE,
     BaseCircleAnswer,
     BaseCircleRequest,
@@ -242,7 +243,8 @@ SOLID_EXAMPLE: dict[str, object] = {"thickness_mm": 12, "bore_diameter_mm": 20, 
 class SolidRequest(ProfileRequest):
     """A profile request whose ``solid`` is required (the solid operations)."""
 
-    model_config = examples({"profile": ROLLER_PROFILE_EXAMPLE, "solid": SOLID_EXAMPLE})
+    # its own examples, and the rules it inherits with ProfileRequest's validator
+    model_config = examples({"profile": ROLLER_PROFILE_EXAMPLE, "solid": SOLID_EXAMPLE}, rules=PROFILE_REQUEST_RULES)
     solid: SolidSpec = Field(description="thickness, bore and tolerance of the solid")
 
 

@@ -192,10 +192,12 @@ class SolidSpec(Spec):
                           "is fitted with lines and arcs within it (an STL: half for the arcs, half for the facets)")
 
 
+#: the rules of a profile request, stated by every model that keeps them (the solids' too)
+PROFILE_REQUEST_RULES = [rule("give either samples or cam_angle_deg, not both", not_both("samples", "cam_angle_deg"))]
+
+
 class ProfileRequest(Spec):
-    model_config = examples(
-        {"profile": ROLLER_PROFILE_EXAMPLE, "samples": 361},
-        rules=[rule("give either samples or cam_angle_deg, not both", not_both("samples", "cam_angle_deg"))])
+    model_config = examples({"profile": ROLLER_PROFILE_EXAMPLE, "samples": 361}, rules=PROFILE_REQUEST_RULES)
     profile: ProfileSpec
     samples: Annotated[int, Field(ge=2), JSON_INTEGER] | None = Field(None, description="evenly over 0–360° of cam angle, both ends included")
     # minItems states the validator's rule in the schema (the validator gives the sentence)

@@ -383,8 +383,12 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
         [cam(ROLLER)],
         [(cam(ROLLER, segments=segments({"swing_deg": 20})), "a translating follower's lift is lift_mm")]),
     "give either samples or cam_angle_deg, not both": (
-        [("/v1/profiles", {"profile": profile(), "cam_angle_deg": [10]})],
+        [("/v1/profiles", {"profile": profile(), "cam_angle_deg": [10]}),
+         ("/v1/profiles.step", {"profile": profile(), "solid": {"thickness_mm": 5}, "cam_angle_deg": [10]})],
         [(("/v1/profiles", {"profile": profile(), "cam_angle_deg": [10], "samples": 5}),
+          "give either samples or cam_angle_deg, not both"),
+         # the solids' own body (SolidRequest) keeps the rule it inherits, and states it (issue 34)
+         (("/v1/profiles.stl", {"profile": profile(), "solid": {"thickness_mm": 5}, "cam_angle_deg": [10], "samples": 5}),
           "give either samples or cam_angle_deg, not both")]),
     "/components/schemas/ProfileRequest/properties/cam_angle_deg/anyOf/0/minItems": (
         [("/v1/profiles", {"profile": profile(), "cam_angle_deg": [10]})],
