@@ -261,11 +261,13 @@ class FollowerResponse:
         """u after the motion (in units of th) until the envelope stays within ``tolerance``
         (in the units of ``scale``, h in them: a fraction of h by default); 0 if it already is;
         None if it never does (ζ = 0)."""
-        residual = scale * self.residual_amplitude
-        if residual <= tolerance:
+        fraction = tolerance / scale
+        if self.residual_amplitude <= fraction:
             return 0.0
         rate = float(self.damping.zeta_omega[0])
         if rate == 0.0:
             return None
-        # logs apart: tolerance / scale underflows to 0 for a tiny tolerance (5e-324 arcsec), its log does not
-        return (math.log(residual) - math.log(tolerance)) / rate
+        if fraction > 0.0:
+            return math.log(self.residual_amplitude / fraction) / rate
+        # logs apart: the fraction underflows to 0 for a tiny tolerance (5e-324 arcsec), its log does not
+        return (math.log(scale * self.residual_amplitude) - math.log(tolerance)) / rate
