@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._solvers import illinois_roots, newton_root, newton_roots
+from ..deadline import checkpoint
 from ..results import Extremum, doc
 from .base import FloatArray, PiecewiseCurve
 from .jumps import AccelerationJump, acceleration_jumps
@@ -370,13 +371,20 @@ def power_balance_peaks(curve: PiecewiseCurve, c1: ArrayLike, c2: ArrayLike
     grid = _bracket_grid(curve)
     _, v, a, j = curve.eval_grid(grid, 3)
     inertia_slope, friction_slope = j * v + a * a, a
-    cand_t = [np.tile(np.concatenate([starts, ends]), rows)]
-    cand_k = [np.tile(np.concatenate([np.arange(n), np.arange(n)]), rows)]
-    cand_r = [np.repeat(np.arange(rows), 2 * n)]
-    # rows in blocks: the grid of one block of rows stays below a few MB
+    # each piece's ends (one-sided), the same times for every row: evaluated once
+    end_t = np.concatenate([starts, ends])
+    _, end_v, end_a = curve.eval_pieces(end_t, np.concatenate([np.arange(n), np.arange(n)]), 2)
+    top, top_t = np.empty(rows), np.empty(rows)
+    bottom, bottom_t = np.empty(rows), np.empty(rows)
+    # rows in blocks: the grid of one block of rows stays below a few MB, and so do its
+    # candidates (a 10 000-point curve has 20 000 ends a row); a deadline is checked each block
     block = max(1, 2**19 // grid.size)
     for first in range(0, rows, block):
+        checkpoint()
         r = np.arange(first, min(first + block, rows))
+        cand_t = [np.tile(end_t, r.size)]
+        cand_f = [(k1[r, None] * end_v[None] * end_a[None] + k2[r, None] * end_v[None]).reshape(-1)]
+        cand_r = [np.repeat(r, 2 * n)]
         g = k1[r, None, None] * inertia_slope[None] + k2[r, None, None] * friction_slope[None]
         sign = np.sign(g)
         r_idx, k_idx, i_idx = np.nonzero(sign[:, :, :-1] * sign[:, :, 1:] < 0)
@@ -392,27 +400,29 @@ def power_balance_peaks(curve: PiecewiseCurve, c1: ArrayLike, c2: ArrayLike
                 return (k1[row] * (jj * vv + aa * aa) + k2[row] * aa,
                         k1[row] * (dj * vv + 3.0 * aa * jj) + k2[row] * jj)
 
-            cand_t.append(newton_roots(slope, lo, hi, f_lo, f_hi, row_of * n + k_idx))
-            cand_k.append(k_idx)
+            roots = newton_roots(slope, lo, hi, f_lo, f_hi, row_of * n + k_idx)
+            _, v_r, a_r = curve.eval_pieces(roots, k_idx, 2)
+            cand_t.append(roots)
+            cand_f.append(k1[row_of] * v_r * a_r + k2[row_of] * v_r)
             cand_r.append(row_of)
         zr, zk, zi = np.nonzero(g == 0.0)
         if zr.size:
+            _, v_z, a_z = curve.eval_pieces(grid[zk, zi], zk, 2)
             cand_t.append(grid[zk, zi])
-            cand_k.append(zk)
+            cand_f.append(k1[r[zr]] * v_z * a_z + k2[r[zr]] * v_z)
             cand_r.append(r[zr])
-    t_all, k_all, r_all = np.concatenate(cand_t), np.concatenate(cand_k), np.concatenate(cand_r)
-    _, v_c, a_c = curve.eval_pieces(t_all, k_all, 2)
-    f_all = k1[r_all] * v_c * a_c + k2[r_all] * v_c
-    order = np.lexsort((t_all, r_all))  # by row, then T: the first extreme is the earliest
-    t_s, f_s, r_s = t_all[order], f_all[order], r_all[order]
-    bounds = np.searchsorted(r_s, np.arange(rows + 1))
-    top = np.maximum.reduceat(f_s, bounds[:-1])
-    bottom = np.minimum.reduceat(f_s, bounds[:-1])
-    position = np.arange(f_s.size)
-    first_top = np.minimum.reduceat(np.where(f_s == top[r_s], position, f_s.size), bounds[:-1])
-    first_bottom = np.minimum.reduceat(np.where(f_s == bottom[r_s], position, f_s.size), bounds[:-1])
-    # a row whose f is not finite everywhere (inputs past float range) has no extreme to find:
-    # its first candidate stands in (the answer refuses the non-finite values)
-    first_top = np.where(first_top < f_s.size, first_top, bounds[:-1])
-    first_bottom = np.where(first_bottom < f_s.size, first_bottom, bounds[:-1])
-    return top, t_s[first_top], bottom, t_s[first_bottom]
+        t_all, f_all, r_all = np.concatenate(cand_t), np.concatenate(cand_f), np.concatenate(cand_r)
+        order = np.argsort(r_all, kind="stable")
+        t_s, f_s, r_s = t_all[order], f_all[order], r_all[order]
+        bounds = np.searchsorted(r_s, r)
+        top[r] = np.maximum.reduceat(f_s, bounds)
+        bottom[r] = np.minimum.reduceat(f_s, bounds)
+        # the earliest T of each extreme; a row whose f is not finite everywhere (inputs past
+        # float range) has no extreme to find: its earliest candidate stands in (the answer
+        # refuses the non-finite values)
+        earliest = np.minimum.reduceat(t_s, bounds)
+        at_top = np.minimum.reduceat(np.where(f_s == top[r_s], t_s, np.inf), bounds)
+        at_bottom = np.minimum.reduceat(np.where(f_s == bottom[r_s], t_s, np.inf), bounds)
+        top_t[r] = np.where(np.isfinite(at_top), at_top, earliest)
+        bottom_t[r] = np.where(np.isfinite(at_bottom), at_bottom, earliest)
+    return top, top_t, bottom, bottom_t

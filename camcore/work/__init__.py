@@ -62,9 +62,12 @@ from .indexers import (
     RMS_INTEGRAL_S,
     RMS_PER_PIECE_S,
     SIZING_SWEEP_ROW_S,
+    SWEEP_GRID_POINT_S,
+    SWEEP_PIECE_S,
     bracketing_points,
     peaks_s,
     rms_s,
+    sweep_row_s,
 )
 from .motions import (
     MOTION_ROW_S,
@@ -172,7 +175,9 @@ __all__ = [
     "SPECTRUM_COLUMNS",
     "SPECTRUM_RENDER_S",
     "SWEEP_CHART_S",
+    "SWEEP_GRID_POINT_S",
     "SWEEP_PANEL_S",
+    "SWEEP_PIECE_S",
     "TABLE_COLUMNS",
     "VIBRATION_BAND_S",
     "VIBRATION_CELL_SAMPLES",
@@ -202,5 +207,6 @@ __all__ = [
     "rib_facets",
     "rms_s",
     "sweep_chart_s",
+    "sweep_row_s",
     "vibration_work",
 ]

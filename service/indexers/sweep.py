@@ -13,7 +13,14 @@ from camcore.indexer.checks import check_speed_alternatives
 from camcore.indexer.sizing import FIGURE_FIELDS
 from camcore.indexer.sweep import size_sweep
 from camcore.results import answer_fields
-from camcore.work import SIZING_SWEEP_ROW_S, WorkEstimate, per_item_work, sweep_chart_s
+from camcore.work import (
+    MOST_PIECES_OF_A_LAW,
+    SIZING_SWEEP_ROW_S,
+    WorkEstimate,
+    per_item_work,
+    sweep_chart_s,
+    sweep_row_s,
+)
 from service.context import Context
 from service.curves.library import check_limit
 from service.curves.specs import MS_SPEC, CurveSpec
@@ -80,9 +87,15 @@ def sweep_work(ctx: Context, body: SizingSweepRequest, fmt: Format) -> WorkEstim
     """413 over the combination limit; the curves and the rows (and a chart's drawing)."""
     check_limit("sizing combinations", body.combinations, ctx.settings.max_sweep_combinations, ("stops",))
     work = WorkEstimate()
+    designs = body.combinations // len(body.curves)  # along each curve
     for i, spec in enumerate(body.curves):
-        work += ctx.curves.work(spec.core(), ("curves", i))
-    work += per_item_work(body.combinations, SIZING_SWEEP_ROW_S, ("stops",), f"{body.combinations} designs")
+        law = spec.core()
+        work += ctx.curves.work(law, ("curves", i))
+        # a design costs its law's bracketing grid: a points curve has a piece per point
+        pieces = max(len(law.parameters.get("t", ())), MOST_PIECES_OF_A_LAW)
+        row_s = sweep_row_s(pieces)
+        field = ("stops",) if row_s == SIZING_SWEEP_ROW_S else ("curves", i)
+        work += per_item_work(designs, row_s, field, f"{designs} designs along curves[{i}]")
     if fmt in CHARTS:  # a panel per stops and indexing angle
         panels = len(set(body.stops)) * len(set(body.indexing_angle_deg))
         check_panels(panels)  # 422 before the budget's 413: the chart cannot be drawn at any budget

@@ -6,11 +6,17 @@ from __future__ import annotations
 import csv
 import io
 import itertools
+import math
+import time
 
 import httpx
 import pytest
 
+from service.app import create_app
 from service.indexers.specs import LOAD_EXAMPLE
+from service.indexers.sweep import SizingSweepRequest
+from service.registry import operation
+from service.settings import Settings
 
 pytestmark = pytest.mark.anyio
 
@@ -64,3 +70,31 @@ async def test_the_chart_of_input_torque_over_speed(client: httpx.AsyncClient) -
     many = {**body, "stops": list(range(1, 18)), "indexing_angle_deg": [120]}
     r = await client.post("/v1/indexers/sizing/sweep?format=png", json=many)
     assert r.status_code == 422 and "at most 16, not 17" in r.json()["detail"]
+
+
+def points_curve(n: int) -> dict[str, object]:
+    """A cycloid through n measured points: a law of n − 1 pieces, each scanned per design."""
+    t = [i / (n - 1) for i in range(n)]
+    return {"type": "points", "t": t, "s": [x - math.sin(2 * math.pi * x) / (2 * math.pi) for x in t]}
+
+
+async def test_a_long_sweep_is_estimated_by_its_curve_and_stopped_at_its_deadline() -> None:
+    # issue 34, point 4: 4 000 speeds along a 10 000-point curve were estimated at 0.55 s (a flat
+    # cost per design) and answered 503 after 4.4 s: the candidates of every design were evaluated
+    # at once after the loop, with no checkpoint. Now the estimate counts the curve's grid per design
+    body = {"load": LOAD, "stops": [6], "indexing_angle_deg": [270], "curves": [points_curve(10_000)]}
+    app = create_app(Settings(work_deadline_s=0.15))
+    async with httpx.AsyncClient(transport=httpx.ASGITransport(app=app), base_url="http://t") as client:
+        r = await client.post("/v1/indexers/sizing/sweep", json={**body, "speed_rpm": list(range(1, 4001))})
+        assert r.status_code == 413 and r.json()["errors"][0]["loc"] == ["body", "curves", 0], r.text[:300]
+        # admitted (estimated under the 1 s budget; ~0.35 s of work), run past a 0.15 s deadline: 503
+        # within the deadline plus 0.25 s, the margin for the parse before admission (~30 ms), one
+        # block between checkpoints (2 designs, ~10 ms) and a machine shared with a second test process
+        speeds = {**body, "speed_rpm": list(range(1, 71))}
+        estimate = operation("sweepIndexerSizing").work(app.state.context, SizingSweepRequest(**speeds)).seconds
+        assert estimate < 1.0
+        start = time.perf_counter()
+        r = await client.post("/v1/indexers/sizing/sweep", json=speeds)
+        elapsed = time.perf_counter() - start
+        assert r.status_code == 503 and "deadline of 0.15 s" in r.text, r.text[:300]
+        assert elapsed < 0.15 + 0.25, elapsed
