@@ -2,9 +2,13 @@
 
 Two bounds per worker process:
 
-- :class:`InFlightLimit` (ASGI middleware): at most ``max_in_flight`` requests in progress;
-  one more is answered 503 with ``Retry-After`` before its body is read. ``/health`` is
-  never refused (probes must see a busy worker as alive).
+- :class:`InFlightLimit` (ASGI middleware): at most ``max_in_flight`` requests in progress,
+  counted once they are ready to compute: a request without a body at once, one with a body
+  when its last byte has arrived (issue 34: 64 clients trickling bodies at 1 byte/s held
+  every place, and 87 of 88 real requests were refused meanwhile; a body's arrival is
+  bounded by the transport's body timeout instead, service/protocol.py). One more is
+  answered 503 with ``Retry-After``, a request without a body before the app sees it.
+  ``/health`` is never refused (probes must see a busy worker as alive).
 - :class:`WorkGate`: a computation runs in a worker thread only after its estimated work
   (camcore.work) has been checked against the budget (413 over it) and admitted: at most
   ``work_slots`` run at once, and the estimated seconds admitted but not finished stay
@@ -29,7 +33,7 @@ from typing import Any, NoReturn, TypeVar
 import anyio
 import orjson
 from starlette.requests import Request
-from starlette.types import ASGIApp, Receive, Scope, Send
+from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from camcore.deadline import Deadline, running_until
 from camcore.errors import WorkLimitError
@@ -53,8 +57,19 @@ def busy_body(detail: str) -> bytes:
     return orjson.dumps({"detail": detail, "errors": []})
 
 
+def has_body(scope: Scope) -> bool:
+    """Whether the request declares a body: a Content-Length over 0, or Transfer-Encoding."""
+    for name, value in scope.get("headers", ()):
+        if name == b"transfer-encoding":
+            return True
+        if name == b"content-length":
+            return value.strip() not in (b"", b"0")
+    return False
+
+
 class InFlightLimit:
-    """Answers 503 (with Retry-After) when ``max_in_flight`` requests are in progress."""
+    """Answers 503 (with Retry-After) when ``max_in_flight`` requests ready to compute are in
+    progress; a request whose body is still arriving is not one of them yet."""
 
     def __init__(self, app: ASGIApp, max_in_flight: int, retry_after_s: int = RETRY_AFTER_S):
         self.app = app
@@ -66,20 +81,58 @@ class InFlightLimit:
         if scope["type"] != "http" or scope["path"] in ALWAYS_ADMITTED:
             await self.app(scope, receive, send)
             return
-        if self.in_flight >= self.max_in_flight:
-            payload = busy_body(f"this worker is busy: {self.in_flight} requests in progress, the limit is "
-                                f"{self.max_in_flight}; retry after {self.retry_after_s} s.")
-            await send({"type": "http.response.start", "status": 503,
-                        "headers": [(b"content-type", b"application/json"),
-                                    (b"content-length", str(len(payload)).encode()),
-                                    (b"retry-after", str(self.retry_after_s).encode())]})
-            await send({"type": "http.response.body", "body": payload})
+        if not has_body(scope):
+            if self.in_flight >= self.max_in_flight:
+                await self._refuse(send)
+                return
+            self.in_flight += 1
+            try:
+                await self.app(scope, receive, send)
+            finally:
+                self.in_flight -= 1
             return
-        self.in_flight += 1
+        counted = False  # the body is complete and the request holds a place
+        refused = False  # ... or there was none: 503, and the app sees a disconnect
+        started = False  # the app has begun an answer (e.g. 413 before the whole body came)
+
+        async def counting_receive() -> Message:
+            nonlocal counted, refused
+            if refused:
+                return {"type": "http.disconnect"}
+            message = await receive()
+            if message["type"] == "http.request" and not message.get("more_body", False) and not counted:
+                if self.in_flight >= self.max_in_flight and not started:
+                    # answered here, the app told the client has gone (as BodySizeLimit does: an
+                    # exception in receive() would become FastAPI's 400)
+                    refused = True
+                    await self._refuse(send)
+                    return {"type": "http.disconnect"}
+                self.in_flight += 1
+                counted = True
+            return message
+
+        async def tracking_send(message: Message) -> None:
+            nonlocal started
+            if refused:
+                return
+            if message["type"] == "http.response.start":
+                started = True
+            await send(message)
+
         try:
-            await self.app(scope, receive, send)
+            await self.app(scope, counting_receive, tracking_send)
         finally:
-            self.in_flight -= 1
+            if counted:
+                self.in_flight -= 1
+
+    async def _refuse(self, send: Send) -> None:
+        payload = busy_body(f"this worker is busy: {self.in_flight} requests in progress, the limit is "
+                            f"{self.max_in_flight}; retry after {self.retry_after_s} s.")
+        await send({"type": "http.response.start", "status": 503,
+                    "headers": [(b"content-type", b"application/json"),
+                                (b"content-length", str(len(payload)).encode()),
+                                (b"retry-after", str(self.retry_after_s).encode())]})
+        await send({"type": "http.response.body", "body": payload})
 
 
 class WorkGate:

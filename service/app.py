@@ -70,7 +70,7 @@ def create_app(settings: Settings | None = None) -> CamcoreAPI:
     app.add_middleware(BodySizeLimit, max_body_bytes=settings.max_body_bytes)
     app.add_middleware(JSONBodiesOnly, routes=app.router.routes)  # 415 before any body is read
     app.add_middleware(AllowedMethods, routes=app.router.routes)
-    app.add_middleware(InFlightLimit, max_in_flight=settings.max_in_flight)  # 503 before any body is read
+    app.add_middleware(InFlightLimit, max_in_flight=settings.max_in_flight)  # 503 once the body is in
     # last: outermost (CORS, then the key, then the in-flight limit, methods, media type and body limit)
     install_security(app, settings)
     return app

@@ -29,6 +29,7 @@ from fastapi import Request, Response
 from fastapi.exceptions import RequestValidationError
 from fastapi.routing import APIRoute
 from pydantic import TypeAdapter, ValidationError
+from starlette.requests import ClientDisconnect
 
 #: bodies larger than this are parsed and validated in a worker thread [bytes]
 LARGE_BODY_BYTES = 256 * 1024
@@ -130,7 +131,13 @@ class OrjsonRoute(APIRoute):
         async def orjson_route_handler(request: Request) -> Response:
             orjson_request = OrjsonRequest(request.scope, request.receive)
             if adapter is not None:
-                await orjson_request.validate_large_body(adapter, _large_body_slots())
+                try:
+                    await orjson_request.validate_large_body(adapter, _large_body_slots())
+                except ClientDisconnect:
+                    # the body never came whole: the client left, or the server answered for it
+                    # already (408 at the body timeout, 413, 503) and told the app it had gone.
+                    # Nothing is sent from here; without this, a traceback per such request
+                    return Response(status_code=400)
             return await handler(orjson_request)
 
         return orjson_route_handler

@@ -379,3 +379,72 @@ async def test_a_new_closed_form_curve_finds_its_values_on_the_event_loop(monkey
                 assert r.status_code == 200 and len(watched) == 1
                 watched.clear()
     assert answers[0] == answers[1]
+
+
+class _Exchange:
+    """One request to an ASGI app driven by hand: its body arrives when the test sends it."""
+
+    def __init__(self, app: Any, path: str, body_parts: int = 0):
+        headers = [(b"content-length", b"%d" % body_parts)] if body_parts else []
+        self.scope = {"type": "http", "method": "POST" if body_parts else "GET", "path": path, "headers": headers}
+        self.incoming: asyncio.Queue[dict[str, Any]] = asyncio.Queue()
+        self.sent: list[dict[str, Any]] = []
+        self.task = asyncio.ensure_future(app(self.scope, self.incoming.get, self._send))
+
+    async def _send(self, message: dict[str, Any]) -> None:
+        self.sent.append(message)
+
+    def body(self, part: bytes, more: bool) -> None:
+        self.incoming.put_nowait({"type": "http.request", "body": part, "more_body": more})
+
+    @property
+    def status(self) -> int | None:
+        return next((m["status"] for m in self.sent if m["type"] == "http.response.start"), None)
+
+
+async def test_a_request_counts_toward_the_in_flight_limit_only_once_its_body_is_in() -> None:
+    """Issue 34, point 3: clients trickling their bodies held every place of the in-flight limit
+    (64 at 1 byte/s: 87 of 88 real requests refused). A body still arriving holds none now; the
+    transport's body timeout bounds how long it may take (tests/service/test_overload.py)."""
+    release = asyncio.Event()
+    seen: list[dict[str, Any]] = []
+
+    async def app(scope: Any, receive: Any, send: Any) -> None:
+        if scope["method"] == "POST":
+            while True:  # read the body, as FastAPI does
+                message = await receive()
+                seen.append(message)
+                if message["type"] != "http.request" or not message.get("more_body"):
+                    break
+            if message["type"] == "http.disconnect":
+                return
+        await release.wait()
+        await send({"type": "http.response.start", "status": 200, "headers": []})
+        await send({"type": "http.response.body", "body": b"ok"})
+
+    limit = InFlightLimit(app, max_in_flight=1)
+    trickling = [_Exchange(limit, "/v1/profiles", body_parts=3) for _ in range(5)]
+    for exchange in trickling:
+        exchange.body(b"{", more=True)
+    await asyncio.sleep(0.05)
+    assert limit.in_flight == 0  # five bodies arriving: no place taken
+    real = _Exchange(limit, "/v1/curves")  # no body: counted at once, and admitted
+    await asyncio.sleep(0.05)
+    assert limit.in_flight == 1 and real.status is None
+    # a body that completes while the place is taken: 503, and the app is told the client left
+    trickling[0].body(b"}", more=False)
+    await trickling[0].task
+    assert trickling[0].status == 503 and seen[-1] == {"type": "http.disconnect"}
+    assert dict(trickling[0].sent[0]["headers"])[b"retry-after"] == b"1"
+    assert len([m for m in trickling[0].sent if m["type"] == "http.response.start"]) == 1  # the 503 only
+    release.set()
+    await real.task
+    assert real.status == 200 and limit.in_flight == 0
+    # with the place free again, a completed body is counted and answered
+    trickling[1].body(b"}", more=False)
+    await trickling[1].task
+    assert trickling[1].status == 200 and limit.in_flight == 0
+    for exchange in trickling[2:]:
+        exchange.task.cancel()
+    await asyncio.gather(*(e.task for e in trickling[2:]), return_exceptions=True)
+    assert limit.in_flight == 0  # the ones still arriving never held a place
