@@ -25,9 +25,23 @@ bytes arrive, before the app (and so before the API-key check) sees the request:
   not read yet) is not held against the client;
 - an answer the client stops reading: when the transport's write buffer stays over its
   high-water mark for ``write_timeout_s`` (the client read nothing that brought it back
-  under the low-water mark), the connection is reset: no answer can be sent any more.
+  under the low-water mark), the connection is reset: no answer can be sent any more;
+- accepting: uvloop (libuv 1.52) accepts one connection per turn of the event loop, and
+  under load a turn takes 50-100 ms (hundreds of callbacks, each taking the GIL back from a
+  computing thread): 10-20 connections a second, so 100 connections queued in the kernel
+  made a new one, a probe's too, wait 10-20 s, unseen by the server. Each connection made
+  therefore takes every other one waiting in the listen queue at once (``accept()`` on the
+  listening socket until it would block), so a connection waits at most one turn to be
+  accepted;
+- connections past ``max_connections`` open at once in this worker (issue 34): such a
+  connection is accepted and its request head read, then answered 503 with ``Retry-After``
+  and closed, at once, without reaching the app (``GET``/``HEAD /health`` excepted: probes
+  see a busy worker alive). A worker keeps at most that many connections sending it
+  requests, and a client past them learns at once to come back later (or a balancer to go
+  elsewhere) instead of waiting in a queue (docs/robustness.md, "At the door").
 
-Each refusal is the service's JSON error body with ``Connection: close``. The server then
+Each refusal is the service's JSON error body with ``Connection: close``, and a line in the
+log at info level (client, status, why; no traceback; a 503 at debug level). The server then
 stops reading requests, half-closes, and discards what the client still sends for at most
 ``LINGER_S`` (so a client still writing its headers or body reads the answer instead of a
 connection reset), then closes.
@@ -37,7 +51,10 @@ from __future__ import annotations
 
 import asyncio
 import functools
+import logging
+import os
 import socket
+import stat
 from asyncio import TimerHandle
 from dataclasses import dataclass
 from typing import Any, Literal
@@ -48,11 +65,14 @@ from uvicorn.config import Config
 from uvicorn.protocols.http.httptools_impl import STATUS_LINE, HttpToolsProtocol
 from uvicorn.server import ServerState
 
+from service.errors import RETRY_AFTER_S
 from service.middleware import SECURITY_HEADERS
 from service.settings import Settings
 
 #: after a refusal, how long what the client still sends is read and discarded before closing [s]
 LINGER_S = 2.0
+#: paths answered on a connection past the connection limit (liveness and readiness probes)
+PROBE_PATHS = frozenset({b"/health"})
 
 Phase = Literal["headers", "body"]
 
@@ -64,11 +84,12 @@ class TransportLimits:
     header_timeout_s: float
     body_timeout_s: float
     write_timeout_s: float
+    max_connections: int = 100_000
 
     @classmethod
     def from_settings(cls, settings: Settings) -> TransportLimits:
-        return cls(settings.max_header_bytes, settings.max_url_bytes,
-                   settings.header_timeout_s, settings.body_timeout_s, settings.write_timeout_s)
+        return cls(settings.max_header_bytes, settings.max_url_bytes, settings.header_timeout_s,
+                   settings.body_timeout_s, settings.write_timeout_s, settings.max_connections)
 
 
 @functools.cache
@@ -78,13 +99,85 @@ def limits_from_environment() -> TransportLimits:
     return TransportLimits.from_settings(Settings())
 
 
+#: the file descriptors of this process's listening sockets, by the local address of the
+#: connections they accept
+_LISTENER_FDS: dict[Any, list[int]] = {}
+_ANY_HOST = ("0.0.0.0", "::")
+
+
+def _listens_for(sock: socket.socket, address: Any) -> bool:
+    """Whether ``sock`` is a listening stream socket that accepts connections to ``address``,
+    non-blocking as an event loop's are (a blocking one is someone else's: accept() would wait)."""
+    if sock.type != socket.SOCK_STREAM or sock.getsockopt(socket.SOL_SOCKET, socket.SO_ACCEPTCONN) != 1:
+        return False
+    if os.get_blocking(sock.fileno()):
+        return False
+    bound = sock.getsockname()
+    if isinstance(address, tuple) and isinstance(bound, tuple):  # IP: the same port, on that host or on all
+        return bool(bound[1] == address[1] and bound[0] in (address[0], *_ANY_HOST))
+    return bool(bound == address)
+
+
+def _listener_fds(address: Any) -> list[int]:
+    """Found once, among the process's file descriptors (/proc/self/fd; none elsewhere)."""
+    if address not in _LISTENER_FDS:
+        found = []
+        try:
+            fds = [int(name) for name in os.listdir("/proc/self/fd")]
+        except OSError:
+            fds = []
+        for fd in fds:
+            try:
+                if stat.S_ISSOCK(os.fstat(fd).st_mode):
+                    sock = socket.socket(fileno=fd)
+                    try:
+                        if _listens_for(sock, address):
+                            found.append(fd)
+                    finally:
+                        sock.detach()  # the server's socket: not closed here
+            except OSError:
+                continue
+        _LISTENER_FDS[address] = found
+    return _LISTENER_FDS[address]
+
+
+def waiting_connections(address: Any) -> list[socket.socket]:
+    """The connections to ``address`` waiting in this process's listen queues, accepted now
+    (non-blocking). A listener closed since (the server shutting down) is checked for each
+    time and forgotten, so nothing is accepted after the server stopped listening."""
+    accepted: list[socket.socket] = []
+    fds = _listener_fds(address)
+    for fd in list(fds):
+        try:
+            listener = socket.socket(fileno=fd)
+        except OSError:
+            fds.remove(fd)
+            continue
+        try:
+            if not _listens_for(listener, address):
+                fds.remove(fd)
+                continue
+            while True:
+                conn, _ = listener.accept()  # the descriptor is non-blocking (libuv's)
+                conn.setblocking(False)
+                accepted.append(conn)
+        except (BlockingIOError, InterruptedError):
+            pass
+        except OSError as exc:  # e.g. out of file descriptors: the rest waits for libuv's own accept
+            logging.getLogger("uvicorn.error").warning("accept failed: %s", exc)
+        finally:
+            listener.detach()
+    return accepted
+
+
 class _Refusal(Exception):
     """Raised in a parser callback to stop parsing and answer ``status``."""
 
-    def __init__(self, status: int, detail: str):
+    def __init__(self, status: int, detail: str, headers: tuple[tuple[bytes, bytes], ...] = ()):
         super().__init__(detail)
         self.status = status
         self.detail = detail
+        self.headers = headers
 
 
 class LimitedHttpToolsProtocol(HttpToolsProtocol):
@@ -98,6 +191,7 @@ class LimitedHttpToolsProtocol(HttpToolsProtocol):
         self._reading_headers = True  # the next bytes belong to a request line or headers
         self._header_bytes = 0  # bytes of the current request line and headers seen so far
         self._refused = False  # an answer to a refusal is out: discard everything else
+        self._over_capacity = False  # accepted past max_connections: only /health is answered
 
     # ------------------------------------------------------------------ connection
     def connection_made(self, transport: asyncio.Transport) -> None:  # type: ignore[override]
@@ -105,7 +199,20 @@ class LimitedHttpToolsProtocol(HttpToolsProtocol):
         if sock is not None and sock.family in (socket.AF_INET, socket.AF_INET6):
             sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         super().connection_made(transport)
+        # this worker's open connections (uvicorn's set, this one in it)
+        self._over_capacity = len(self.connections) > self.limits.max_connections
         self._arm("headers")  # a connection that sends nothing is timed like a slow one
+        if sock is not None:
+            self._accept_waiting(sock.getsockname())
+
+    def _accept_waiting(self, address: Any) -> None:
+        """Takes every connection waiting in the listen queue of ``address`` now, instead of
+        one per turn of the event loop (see the module's docstring)."""
+        for conn in waiting_connections(address):
+            self.loop.create_task(self.loop.connect_accepted_socket(self._sibling, conn))
+
+    def _sibling(self) -> LimitedHttpToolsProtocol:
+        return type(self)(self.config, self.server_state, self.app_state, self.loop, self.limits)
 
     def connection_lost(self, exc: Exception | None) -> None:
         self._disarm()
@@ -142,7 +249,7 @@ class LimitedHttpToolsProtocol(HttpToolsProtocol):
         except httptools.HttpParserCallbackError as exc:
             refusal = exc.__context__
             if isinstance(refusal, _Refusal):
-                self._refuse(refusal.status, refusal.detail)
+                self._refuse(refusal.status, refusal.detail, refusal.headers)
             else:
                 self.logger.warning("Invalid HTTP request received.")
                 self.send_400_response("Invalid HTTP request received.")
@@ -172,6 +279,10 @@ class LimitedHttpToolsProtocol(HttpToolsProtocol):
         super().on_url(url)
 
     def on_headers_complete(self) -> None:
+        if self._over_capacity and httptools.parse_url(self.url).path not in PROBE_PATHS:
+            raise _Refusal(503, f"this worker is busy: {len(self.connections) - 1} connections are open, the limit "
+                                f"is {self.limits.max_connections}; retry after {RETRY_AFTER_S} s.",
+                           ((b"retry-after", str(RETRY_AFTER_S).encode()),))
         self._reading_headers = False
         self._arm("body")  # disarmed again at the message's end, at once when it has no body
         super().on_headers_complete()
@@ -240,10 +351,14 @@ class LimitedHttpToolsProtocol(HttpToolsProtocol):
     def send_400_response(self, msg: str) -> None:
         self._refuse(400, msg)
 
-    def _refuse(self, status: int, detail: str) -> None:
+    def _refuse(self, status: int, detail: str, extra_headers: tuple[tuple[bytes, bytes], ...] = ()) -> None:
         """Answer ``status`` with the JSON error body, half-close, and discard the rest."""
         self._disarm()
         self._refused = True
+        client = self.transport.get_extra_info("peername")
+        # a 503 at the door comes by the thousand under overload: not at the default level
+        self.logger.log(logging.DEBUG if status == 503 else logging.INFO, "%s - %d: %s",
+                        f"{client[0]}:{client[1]}" if client else "-", status, detail)
         if self.cycle is not None and not self.cycle.response_complete:
             if self.cycle.response_started:
                 self.transport.close()  # an answer is being written: cannot put one inside it
@@ -254,7 +369,7 @@ class LimitedHttpToolsProtocol(HttpToolsProtocol):
             self.cycle.message_event.set()
         body = orjson.dumps({"detail": detail, "errors": []})
         head = [STATUS_LINE[status]]
-        headers = [*self.server_state.default_headers, *SECURITY_HEADERS,
+        headers = [*self.server_state.default_headers, *SECURITY_HEADERS, *extra_headers,
                    (b"content-type", b"application/json"), (b"content-length", str(len(body)).encode()),
                    (b"connection", b"close")]
         for name, value in headers:

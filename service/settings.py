@@ -42,6 +42,10 @@ class Settings(BaseSettings):
     body_timeout_s: float = Field(20.0, gt=0, le=3600, description="from the end of the headers to the end of the body; 408")
     write_timeout_s: float = Field(30.0, gt=0, le=3600,
                                    description="an answer the client does not read for this long is dropped (connection reset)")
+    max_connections: int = Field(
+        128, ge=1, le=100_000,
+        description="open connections per worker; a connection accepted past it is answered 503 with Retry-After "
+                    "(GET /health is still answered) and closed")
 
     # limits: larger work is refused with 413 naming the limit
     max_body_bytes: int = Field(4 * 1024 * 1024, ge=1024)
