@@ -97,8 +97,8 @@ def makino_with(**changes: Any) -> dict[str, Any]:
 
 
 @pytest.mark.parametrize(("motion", "status", "loc", "words"), [
-    ({"segments": [{"span_deg": 100, "to": 1}, {"span_deg": 200, "type": "dwell"}]}, 422, ["body", "motion"],
-     "must add up to period_deg = 360"),
+    ({"segments": [{"span_deg": 100, "to": 1}, {"span_deg": 200, "type": "dwell"}]}, 422,
+     ["body", "motion", "segments"], "must add up to period_deg = 360"),  # camcore's field, carried (issue 34)
     (makino_with(**{"0__stroke": 5}), 422, ["body", "motion", "segments", 0], "not both"),
     ({"segments": [{"span_deg": 180, "type": "dwell", "curve": {"type": "named", "name": "MS"}},
                    {"span_deg": 180, "to": 1}]}, 422, ["body", "motion", "segments", 0], "a dwell holds its position"),
