@@ -14,7 +14,14 @@ import camcore
 from service.admission import InFlightLimit
 from service.context import Context
 from service.errors import install_error_handlers
-from service.middleware import AllowedMethods, BodySizeLimit, JSONBodiesOnly, SecurityHeaders, ServerTiming
+from service.middleware import (
+    AllowedMethods,
+    AnsweredErrors,
+    BodySizeLimit,
+    JSONBodiesOnly,
+    SecurityHeaders,
+    ServerTiming,
+)
 from service.offline_docs import install_offline_docs
 from service.openapi_examples import restore_examples
 from service.openapi_layout import DESCRIPTION, TAGS, arrange
@@ -39,7 +46,7 @@ class CamcoreAPI(FastAPI):
     route_kinds: Mapping[str, str] = MappingProxyType({})
 
     def build_middleware_stack(self) -> ASGIApp:
-        return SecurityHeaders(ServerTiming(super().build_middleware_stack()))
+        return SecurityHeaders(ServerTiming(AnsweredErrors(super().build_middleware_stack())))
 
     def openapi(self) -> dict[str, Any]:
         if self.openapi_schema is None:

@@ -34,6 +34,7 @@ from camcore.errors import (
     UnknownCurveError,
     WorkStoppedError,
 )
+from service.middleware import ANSWERED_ERROR
 from service.responses import JSONBody
 from service.specs import FieldRuleError
 
@@ -202,6 +203,7 @@ async def http_error_handler(request: Request, exc: Exception) -> JSONBody:
 
 async def unexpected_error_handler(request: Request, exc: Exception) -> JSONBody:
     logger.exception("unexpected error on %s %s", request.method, request.url.path)
+    request.scope[ANSWERED_ERROR] = exc  # answered and logged: it ends at AnsweredErrors, its connection kept
     return JSONBody(error_body("Internal error; it has been logged."), status_code=500)
 
 

@@ -3,7 +3,8 @@
 - :class:`SecurityHeaders`: ``X-Content-Type-Options: nosniff`` on every answer;
 - :class:`AllowedMethods`: a 405's ``Allow`` lists every method the path accepts;
 - :class:`JSONBodiesOnly`: a body in another media type than JSON is refused with 415;
-- :class:`BodySizeLimit`: a body over the configured size is refused with 413 naming the limit.
+- :class:`BodySizeLimit`: a body over the configured size is refused with 413 naming the limit;
+- :class:`AnsweredErrors`: an error answered whole (a 500) ends there, its connection kept.
 
 Their answers carry the service's error body, ``{"detail": ..., "errors": []}``.
 """
@@ -11,6 +12,7 @@ Their answers carry the service's error body, ``{"detail": ..., "errors": []}``.
 from __future__ import annotations
 
 import email.message
+import logging
 import time
 from collections.abc import Iterator, Sequence
 from typing import Any
@@ -23,6 +25,8 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 #: on every answer: browsers must not guess a type other than the one declared (an SVG plot,
 #: a CSV table, an error body)
 SECURITY_HEADERS: list[tuple[bytes, bytes]] = [(b"x-content-type-options", b"nosniff")]
+#: the same logger as the error handlers (service.errors)
+logger = logging.getLogger("camcore.service")
 #: the media type the POST bodies are read as (FastAPI also reads any ``application/*+json``)
 JSON_MEDIA_TYPE = "application/json"
 
@@ -77,6 +81,46 @@ class ServerTiming:
             await send(message)
 
         await self.app(scope, receive, send_with_timing)
+
+
+#: the scope key where service.errors' handler leaves the error it answered with a 500 (and logged)
+ANSWERED_ERROR = "camcore.answered_error"
+
+
+class AnsweredErrors:
+    """An error whose answer was sent whole ends here.
+
+    Starlette's ServerErrorMiddleware answers an unexpected error with a 500 (service.errors'
+    handler, which logs it) and then raises it again, for the server; uvicorn's protocol takes any
+    exception after an answer has started for a broken answer and closes the transport, so the
+    500 itself and the next request on that keep-alive connection met a reset (issue 34). Raised
+    before its answer is complete, an error still reaches the server, which must close the
+    connection: the client could not tell where the answer ends. An error after a complete answer
+    that the handler did not answer (a background task's) is logged here.
+    """
+
+    def __init__(self, app: ASGIApp):
+        self.app = app
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        complete = False
+
+        async def watch(message: Message) -> None:
+            nonlocal complete
+            await send(message)
+            if message["type"] == "http.response.body" and not message.get("more_body", False):
+                complete = True
+
+        try:
+            await self.app(scope, receive, watch)
+        except Exception as exc:
+            if not complete:
+                raise
+            if scope.get(ANSWERED_ERROR) is not exc:
+                logger.exception("error after the answer to %s %s", scope.get("method"), scope.get("path"))
 
 
 def _matching_routes(routes: Sequence[BaseRoute], scope: Scope) -> Iterator[tuple[Match, RouteContext]]:

@@ -23,13 +23,14 @@ def free_port() -> int:
 
 
 @contextmanager
-def running_service(**settings: str) -> Iterator[tuple[str, subprocess.Popen[bytes]]]:
-    """``python -m service`` on a free loopback port, with ``CAMCORE_<NAME>`` set from
-    ``settings`` over the environment; yields its URL and process, stops it afterwards."""
+def running_service(module: str = "service", **settings: str) -> Iterator[tuple[str, subprocess.Popen[bytes]]]:
+    """``python -m service`` (or ``module``, a test's server started the same way) on a free
+    loopback port, with ``CAMCORE_<NAME>`` set from ``settings`` over the environment; yields its
+    URL and process, stops it afterwards."""
     port = free_port()
     env = {**os.environ, "CAMCORE_HOST": "127.0.0.1", "CAMCORE_PORT": str(port), "CAMCORE_LOG_LEVEL": "warning",
            **{f"CAMCORE_{name.upper()}": value for name, value in settings.items()}}
-    proc = subprocess.Popen([sys.executable, "-m", "service"], cwd=ROOT, env=env,
+    proc = subprocess.Popen([sys.executable, "-m", module], cwd=ROOT, env=env,
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
     url = f"http://127.0.0.1:{port}"
     try:
