@@ -83,5 +83,12 @@ def test_radius_of_curvature_agrees_with_finite_differences(cam: P.CamSpec, angl
 
     fd = (4 * three_point(h) - three_point(2 * h)) / 3
     reported = np.asarray(result.radius_of_curvature_mm)
-    # what is left (rounding, O(h⁴)) stays far below 1e-6 relative for the radii drawn (R ≤ ~400 mm)
-    assert np.allclose(np.abs(reported), fd, rtol=1e-6), (theta, reported, fd)
+    # what is left is O(h⁴) and the chords' rounding. A coordinate is known to ~eps·|P|, and the
+    # radius is read from the sagitta s²/(8R) of a chord s: relative error ~eps·|P|·8R/s², below
+    # 1e-7 for the usual radii but 7e-6 on a nearly flat stretch (R ≈ 5939 mm was drawn once and
+    # the difference was 1.5e-6: the finite difference, not the formula, is the rougher there).
+    # Allowed: 1e-6, plus 4× that bound (three points, two coordinates, Richardson's 4/3 weight).
+    x, y, _, _ = P.contour(cam, np.concatenate([theta, theta + h]))
+    chord = np.hypot(x[n:] - x[:n], y[n:] - y[:n])
+    rounding = 8 * np.finfo(np.float64).eps * np.hypot(x[:n], y[:n]) * np.abs(reported) / chord**2
+    assert np.all(np.abs(np.abs(reported) - fd) <= (1e-6 + 4 * rounding) * np.abs(fd)), (theta, reported, fd, rounding)
