@@ -234,7 +234,9 @@ def test_second_pod_starts_and_holds_a_short_soak(image: str, pod: tuple[str, st
         assert state["Status"] == "running" and not state["OOMKilled"], state
         assert figures["unexpected"] == {}, figures
         statuses = figures["statuses"]
-        assert statuses.get("step 200", 0) and statuses.get("stl 200", 0), statuses
+        # the kernel process wrote solids during the soak (its memory is in the peak); which format
+        # the 4 exporters drew and got through a 1-CPU pod in 30 s varies (a run had STEP 2, STL 0)
+        assert statuses.get("step 200", 0) + statuses.get("stl 200", 0) >= 1, statuses
         assert peak < mib(CONTAINER["resources"]["limits"]["memory"]), figures
     finally:
         stop(container, tmp_path / "container.log")
