@@ -224,6 +224,10 @@ def test_second_pod_starts_and_holds_a_short_soak(image: str, pod: tuple[str, st
     try:
         record(second_health_s=round(health, 2))
         seconds = float(os.environ.get("CAMCORE_IMAGE_SOAK_S", "30"))
+        # a solid first, so the kernel process is up through the soak (it exits after 60 s idle):
+        # in a 1-CPU pod under 32 mixed connections the exporters' solids may all meet a 503
+        solid = httpx.post(f"{url}/v1/profiles.step", json=soak.SOLID_BODY, timeout=120)
+        assert solid.status_code == 200 and solid.content.startswith(b"ISO-10303-21"), solid.text[:300]
         pid = int(run(*podman(), "inspect", "--format", "{{.State.Pid}}", container).stdout)  # as the host sees it
         memory, tally = asyncio.run(soak.soak(url, pid, 1, seconds, connections=32, exporters=4, stallers=32,
                                               stall_s=min(40.0, seconds), seed=1))
@@ -234,9 +238,9 @@ def test_second_pod_starts_and_holds_a_short_soak(image: str, pod: tuple[str, st
         assert state["Status"] == "running" and not state["OOMKilled"], state
         assert figures["unexpected"] == {}, figures
         statuses = figures["statuses"]
-        # the kernel process wrote solids during the soak (its memory is in the peak); which format
-        # the 4 exporters drew and got through a 1-CPU pod in 30 s varies (a run had STEP 2, STL 0)
-        assert statuses.get("step 200", 0) + statuses.get("stl 200", 0) >= 1, statuses
+        # the exporters asked for solids throughout (answered or refused busy: two CI runs had STEP
+        # 2 and STL 0 answered, then none; the kernel's memory is in the peak through the solid above)
+        assert sum(count for key, count in statuses.items() if key.split()[0] in ("step", "stl")) > 0, statuses
         assert peak < mib(CONTAINER["resources"]["limits"]["memory"]), figures
     finally:
         stop(container, tmp_path / "container.log")
