@@ -14,6 +14,7 @@ from service.curves import vibration as curve_vibration
 from service.indexers import operations as indexers
 from service.indexers import sweep as sizing_sweep
 from service.indexers import vibration as indexer_vibration
+from service.machines import operations as machines
 from service.motions import operations as motions
 from service.operations import Operation
 from service.profiles import dynamics, toolpath
@@ -26,6 +27,7 @@ OPERATIONS: tuple[Operation, ...] = (
     *motions.OPERATIONS,
     *profiles.OPERATIONS, *toolpath.OPERATIONS, *dynamics.OPERATIONS,
     *barrel.OPERATIONS, *parallel.OPERATIONS, *roller_gear.OPERATIONS,
+    *machines.OPERATIONS,
 )
 
 

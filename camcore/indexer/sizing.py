@@ -239,6 +239,35 @@ def size(
                   accuracy_mm=acc, **figures, **drive)
 
 
+def machine_cycle(indexer: Indexer | TimedIndexer, load: Load) -> Cycle:
+    """The input torque laws of one machine cycle at the indexer's speed, as :func:`size` makes them.
+
+    Parameters
+    ----------
+    indexer : Indexer or TimedIndexer
+        The indexer at its speed.
+    load : Load
+        What the output drives.
+
+    Returns
+    -------
+    Cycle
+        f = c1·V·A + c2·V per moving stretch (input torque before the service factor and the
+        internal friction, :mod:`.drive`).
+
+    References
+    ----------
+    INDEXMAN technical guide, section 5; the power balance T_in·ω_in = T_out·ω_out.
+    """
+    resisting = load.output_friction_torque_nm + load.output_work_torque_nm
+    inertia = load.output_inertia_kgm2
+    if isinstance(indexer, TimedIndexer):
+        return _cycle(indexer, _chart_peaks(indexer, inertia, resisting))
+    return _cycle(indexer, _curve_peaks(indexer.curve, np.array([indexer.displacement_deg]),
+                                        np.array([indexer.indexing_angle_deg]), np.array([indexer.rpm]), inertia,
+                                        resisting))
+
+
 def _cycle(indexer: Indexer | TimedIndexer, peaks: _Peaks) -> Cycle:
     """The machine cycle's torque laws: one index of a curve (twice for an oscillating unit's
     out and back strokes, which need the same torque), or each moving segment of a chart."""

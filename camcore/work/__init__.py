@@ -69,6 +69,7 @@ from .indexers import (
     rms_s,
     sweep_row_s,
 )
+from .machines import machine_work
 from .motions import (
     MOTION_ROW_S,
     MOTION_SOLVE_S,
@@ -200,6 +201,7 @@ __all__ = [
     "fit_elements_estimate",
     "fit_work",
     "law_cost",
+    "machine_work",
     "motion_work",
     "peaks_s",
     "per_item_work",

@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from camcore.cams.barrel import BarrelResult, make_barrel_cam, sample_barrel
+from camcore.cams.barrel import BarrelCam, BarrelResult, make_barrel_cam, sample_barrel
 from camcore.curves.kinds import LawCost
 from camcore.profile import Segment
 from camcore.results import as_dict
@@ -47,6 +47,11 @@ def _check_size(ctx: Context, body: BarrelCamRequest) -> None:
 def _work(ctx: Context, body: BarrelCamRequest, fmt: Format) -> WorkEstimate:
     """The curves built, the checks, the samples and their encoding."""
     _check_size(ctx, body)
+    return barrel_work(ctx, body, body.samples, body.length_samples, fmt.name)
+
+
+def barrel_work(ctx: Context, body: BarrelCamRequest, samples: int, length_samples: int, answer: str) -> WorkEstimate:
+    """The curves built, the checks, ``samples`` × ``length_samples`` points and their encoding as ``answer``."""
     costs: list[LawCost | None] = []
     built = WorkEstimate()
     field: Location
@@ -69,8 +74,8 @@ def _work(ctx: Context, body: BarrelCamRequest, fmt: Format) -> WorkEstimate:
                 seen.add(ctx.curves.key(law))
                 built += curve_work(cost, ("segments", i, "curve"))
     checks = checks_work(costs, field).seconds * BARREL_CHECKS_FACTOR
-    n, points = body.samples, body.samples * body.length_samples
-    csv_answer = fmt.name == "csv"
+    n, points = samples, samples * length_samples
+    csv_answer = answer == "csv"
     values = n * BARREL_COLUMNS + (0 if csv_answer else points * BARREL_FLANK_VALUES)
     return (built + per_item_work(1, checks, field, "the barrel cam's checks")
             + per_item_work(n, BARREL_SAMPLE_S, ("samples",), f"{n} cam angles")
@@ -79,8 +84,13 @@ def _work(ctx: Context, body: BarrelCamRequest, fmt: Format) -> WorkEstimate:
 
 
 def barrel(ctx: Context, body: BarrelCamRequest) -> BarrelResult:
-    """The barrel cam sampled (its curves from the curve cache, its program resolved as every program)."""
+    """The barrel cam sampled."""
     _check_size(ctx, body)
+    return sample_barrel(barrel_cam(ctx, body), body.samples, body.length_samples)
+
+
+def barrel_cam(ctx: Context, body: BarrelCamRequest) -> BarrelCam:
+    """The barrel cam (its curves from the curve cache, its program resolved as every program)."""
     segments = None
     program = None
     if body.segments is not None:
@@ -93,11 +103,10 @@ def barrel(ctx: Context, body: BarrelCamRequest) -> BarrelResult:
     else:
         assert body.motion is not None
         program = resolve(ctx, body.motion.core())
-    cam = make_barrel_cam(body.pitch_radius_mm, body.roller_radius_mm, roller_length_mm=body.roller_length_mm,
+    return make_barrel_cam(body.pitch_radius_mm, body.roller_radius_mm, roller_length_mm=body.roller_length_mm,
                           groove_depth_mm=body.groove_depth_mm, segments=segments, motion=program,
                           roller=body.roller, follower=body.follower, arm_length_mm=body.arm_length_mm,
                           initial_arm_angle_deg=body.initial_arm_angle_deg)
-    return sample_barrel(cam, body.samples, body.length_samples)
 
 
 def over_the_turn(r: BarrelResult, body: BarrelCamRequest) -> dict[str, Any]:

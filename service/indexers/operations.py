@@ -41,6 +41,7 @@ from service.indexers.specs import (
     SIZING_EXAMPLES,
     SMALLEST,
     AccuracyAnswer,
+    IndexerShape,
     IndexerSpec,
     MotionAnswer,
     MotionRequest,
@@ -63,20 +64,23 @@ CURVE = ("indexer", "curve")
 
 
 # ----------------------------------------------------------------------------- any indexer
-def indexer(ctx: Context, spec: IndexerSpec) -> Indexer | TimedIndexer:
-    """The single-curve indexer, or the indexer of a timing chart."""
+def indexer(ctx: Context, spec: IndexerShape, speed_rpm: float | None = None) -> Indexer | TimedIndexer:
+    """The single-curve indexer, or the indexer of a timing chart; at ``speed_rpm`` when given (an indexer
+    without its own speed: a machine's), else at the spec's speed or cycle time."""
+    own_speed = getattr(spec, "speed_rpm", None) if speed_rpm is None else speed_rpm
+    cycle_time = getattr(spec, "cycle_time_s", None) if speed_rpm is None else None
     if spec.timing is not None:
         program = resolve(ctx, spec.timing.core(), at=TIMING)
         with within(*TIMING):
             camcore.indexer.check_timing(program)
         with within("indexer"):
-            return TimedIndexer(program=program, speed_rpm=spec.speed_rpm, cycle_time_s=spec.cycle_time_s,
+            return TimedIndexer(program=program, speed_rpm=own_speed, cycle_time_s=cycle_time,
                                 input_stop_time_s=spec.input_stop_time_s)
     assert spec.indexing_angle_deg is not None  # the spec's rule without a timing chart
     curve = ctx.curves.curve(spec.curve.core(), at=CURVE)
     with within("indexer"):
         return Indexer(stops=spec.stops, swing_angle_deg=spec.swing_angle_deg, indexing_angle_deg=spec.indexing_angle_deg,
-                       dwells=spec.dwells, speed_rpm=spec.speed_rpm, cycle_time_s=spec.cycle_time_s,
+                       dwells=spec.dwells, speed_rpm=own_speed, cycle_time_s=cycle_time,
                        input_stop_time_s=spec.input_stop_time_s, curve=curve)
 
 
@@ -92,7 +96,7 @@ def origin(spec: IndexerSpec, unit: Any) -> Callable[[T], T]:
     return move
 
 
-def timing_work(ctx: Context, spec: IndexerSpec, rows: int, rows_field: Location) -> WorkEstimate:
+def timing_work(ctx: Context, spec: IndexerShape, rows: int, rows_field: Location) -> WorkEstimate:
     """A timing chart resolved and evaluated at ``rows`` input angles."""
     assert spec.timing is not None
     return program_work(ctx, spec.timing.core(), rows, rows_field, at=TIMING)
@@ -171,10 +175,15 @@ def _sizing_work(ctx: Context, body: SizingRequest, fmt: Format) -> WorkEstimate
     """The curve, its characteristic values and the exact peaks (a few ms), or a timing chart's
     laws and peaks; the torque table's rows and the RMS integrals (one, or two with a motor), per
     moving segment."""
-    spec = body.indexer
+    return indexer_work(ctx, body.indexer, body.table_samples, body.motor is not None)
+
+
+def indexer_work(ctx: Context, spec: IndexerShape, table_samples: int, motor: bool) -> WorkEstimate:
+    """An indexer built and sized: its curve or chart, the exact peaks, ``table_samples`` torque rows per moving
+    segment and the RMS integrals (two with a motor)."""
     if spec.timing is not None:
         laws = sum(1 for segment in spec.timing.segments if segment.type != "dwell")
-        work = timing_work(ctx, spec, body.table_samples * laws, TIMING)
+        work = timing_work(ctx, spec, table_samples * laws, TIMING)
         pieces = MOST_PIECES_OF_A_LAW
     else:
         laws = 1
@@ -182,9 +191,9 @@ def _sizing_work(ctx: Context, body: SizingRequest, fmt: Format) -> WorkEstimate
         cost = ctx.curves.cost(law, at=CURVE)
         pieces = max(len(law.parameters.get("t", ())), MOST_PIECES_OF_A_LAW)
         work = ctx.curves.build_work(law, cost, CURVE) + per_item_work(
-            body.table_samples, INDEXER_ROW_S, ("table_samples",), f"{body.table_samples} torque rows") + \
+            table_samples, INDEXER_ROW_S, ("table_samples",), f"{table_samples} torque rows") + \
             per_item_work(1, peaks_s(pieces, cost.sample_s), CURVE, "the exact torque peaks")
-    integrals = laws * (2 if body.motor is not None else 1)
+    integrals = laws * (2 if motor else 1)
     return work + per_item_work(integrals, rms_s(pieces), ("indexer",), f"{integrals} RMS integrals")
 
 

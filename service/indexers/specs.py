@@ -17,7 +17,7 @@ from camcore.indexer import (
     Sizing,
     check_timing_frame,
 )
-from camcore.indexer.checks import check_alternatives, check_speed_alternatives, check_total_indexing_angle
+from camcore.indexer.checks import check_speed_alternatives, check_total_indexing_angle
 from service.curves.specs import MS_SPEC, CurveSpec, NamedCurveSpec
 from service.models import answer_model
 from service.motions.specs import MotionSpec
@@ -63,37 +63,39 @@ TIMING_REPLACES = "a timing chart replaces stops, swing_angle_deg, indexing_angl
 DWELL_CENTRE_RULE = "input_angle_origin dwell-centre is for a single-curve indexer: a timing chart starts at its own 0°"
 
 
-class IndexerSpec(Spec):
-    """A cam indexer (stops) or oscillating unit (swing angle) at constant input speed, or an
-    indexer whose output follows a timing chart over one input turn.
+#: an indexer's rules as JSON Schema but the speed's (the validators say the same)
+SHAPE_RULES = [
+    rule(TIMING_REPLACES, {"if": given("timing"),
+                           "then": absent("stops", "swing_angle_deg", "indexing_angle_deg", "dwells", "curve")}),
+    rule("give exactly one of stops (n) and swing_angle_deg (ψ, oscillating units)",
+         {"if": {"not": given("timing")}, "then": exactly_one("stops", "swing_angle_deg")}),
+    rule("indexing_angle_deg (θh) is needed without a timing chart",
+         {"if": {"not": given("timing")}, "then": given("indexing_angle_deg")}),
+    rule("a timing chart gives the output angle in deg over one input turn (period_deg 360)",
+         {"if": given("timing"), "then": {"properties": {"timing": {"required": ["unit"], "properties": {
+             "unit": {"const": "deg"}, "period_deg": {"const": 360}}}}}}),
+    rule(DWELL_CENTRE_RULE, {"if": given("timing"), "then": {"properties": {
+        "input_angle_origin": {"not": {"const": "dwell-centre"}}}}})]
+SPEED_RULE = "give exactly one of speed_rpm (N) and cycle_time_s (t0 = 60/(N·z))"
+#: the guide's worked example without its speed (a machine's camshaft sets it)
+INDEXER_SHAPE_EXAMPLE = {k: v for k, v in INDEXER_EXAMPLE.items() if k != "speed_rpm"}
+
+
+class IndexerShape(Spec):
+    """A cam indexer (stops) or oscillating unit (swing angle), or an indexer whose output follows a
+    timing chart over one input turn, without its speed (on a machine, the camshaft turns it).
 
     The total indexing angle θt = θh·z (indexing_angle_deg × dwells) is at most 360°.
     """
 
-    # check_alternatives' rules, and the timing chart in place of stops/swing, angle, dwells and curve
-    model_config = examples(
-        INDEXER_EXAMPLE, TIMING_INDEXER_EXAMPLE,
-        rules=[rule(TIMING_REPLACES, {"if": given("timing"),
-                                      "then": absent("stops", "swing_angle_deg", "indexing_angle_deg", "dwells", "curve")}),
-               rule("give exactly one of stops (n) and swing_angle_deg (ψ, oscillating units)",
-                    {"if": {"not": given("timing")}, "then": exactly_one("stops", "swing_angle_deg")}),
-               rule("indexing_angle_deg (θh) is needed without a timing chart",
-                    {"if": {"not": given("timing")}, "then": given("indexing_angle_deg")}),
-               rule("a timing chart gives the output angle in deg over one input turn (period_deg 360)",
-                    {"if": given("timing"), "then": {"properties": {"timing": {"required": ["unit"], "properties": {
-                        "unit": {"const": "deg"}, "period_deg": {"const": 360}}}}}}),
-               rule("give exactly one of speed_rpm (N) and cycle_time_s (t0 = 60/(N·z))",
-                    exactly_one("speed_rpm", "cycle_time_s")),
-               rule(DWELL_CENTRE_RULE, {"if": given("timing"), "then": {"properties": {
-                   "input_angle_origin": {"not": {"const": "dwell-centre"}}}}})])
+    model_config = examples(INDEXER_SHAPE_EXAMPLE, {k: v for k, v in TIMING_INDEXER_EXAMPLE.items()
+                                                    if k != "speed_rpm"}, rules=SHAPE_RULES)
     stops: Annotated[int, Field(ge=1, le=100_000), JSON_INTEGER] | None = Field(None, description="n, stops per output turn")
     swing_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=SMALLEST, le=360)] | None = Field(
         None, description="ψ, output swing of an oscillating unit (instead of stops)")
     indexing_angle_deg: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=SMALLEST, le=360)] | None = Field(
         None, description="θh, input angle per index (needed without a timing chart)")
     dwells: Annotated[int, Field(ge=1, le=360), JSON_INTEGER] = Field(1, description="z, indexes per input turn")
-    speed_rpm: Positive | None = Field(None, description="N, input speed")
-    cycle_time_s: Positive | None = Field(None, description="t0, unit cycle time (instead of speed_rpm)")
     input_stop_time_s: NonNegative = Field(0.0, description="ts, input stands still each index")
     internal_friction_torque_nm: NonNegative = Field(
         0.0, description="the unit's own friction torque on the input shaft while it turns (the maker's data); in the "
@@ -110,7 +112,7 @@ class IndexerSpec(Spec):
                           "then the number of dwells in the chart, and the summary's per-index values are averages")
 
     @model_validator(mode="after")
-    def _check(self) -> IndexerSpec:
+    def _check(self) -> IndexerShape:
         # the core's own rules (camcore raises ValueError subclasses: 422 with the same sentence)
         if self.timing is not None:
             replaced = [name for name in ("stops", "swing_angle_deg", "indexing_angle_deg", "dwells", "curve")
@@ -120,12 +122,30 @@ class IndexerSpec(Spec):
             if self.input_angle_origin == "dwell-centre":
                 raise ValueError(DWELL_CENTRE_RULE)
             check_timing_frame(self.timing.unit, self.timing.period_deg)
-            check_speed_alternatives(self.speed_rpm, self.cycle_time_s)
             return self
-        check_alternatives(self.stops, self.swing_angle_deg, self.speed_rpm, self.cycle_time_s)
+        if (self.stops is None) == (self.swing_angle_deg is None):
+            raise ValueError("give exactly one of stops (n) and swing_angle_deg (ψ, oscillating units).")
         if self.indexing_angle_deg is None:
             raise ValueError("indexing_angle_deg (θh) is needed without a timing chart")
         check_total_indexing_angle(self.indexing_angle_deg, self.dwells)
+        return self
+
+
+class IndexerSpec(IndexerShape):
+    """A cam indexer (stops) or oscillating unit (swing angle) at constant input speed, or an
+    indexer whose output follows a timing chart over one input turn.
+
+    The total indexing angle θt = θh·z (indexing_angle_deg × dwells) is at most 360°.
+    """
+
+    model_config = examples(INDEXER_EXAMPLE, TIMING_INDEXER_EXAMPLE,
+                            rules=[*SHAPE_RULES, rule(SPEED_RULE, exactly_one("speed_rpm", "cycle_time_s"))])
+    speed_rpm: Positive | None = Field(None, description="N, input speed")
+    cycle_time_s: Positive | None = Field(None, description="t0, unit cycle time (instead of speed_rpm)")
+
+    @model_validator(mode="after")
+    def _check_speed(self) -> IndexerSpec:
+        check_speed_alternatives(self.speed_rpm, self.cycle_time_s)
         return self
 
 

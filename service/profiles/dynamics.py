@@ -26,18 +26,24 @@ from service.operations import JSON, PNG, SVG, Alias, Document, Format, Operatio
 from service.profiles.charts import contact_force_chart
 from service.profiles.dynamics_specs import DYNAMICS_EXAMPLES, DynamicsAnswer, DynamicsRequest
 from service.profiles.operations import ProfilePlotQuery, cam, plot_profile_spec, schedule_field, schedule_work, spans
+from service.profiles.specs import ProfileSpec
 
 
 def _work(ctx: Context, body: DynamicsRequest, fmt: Format | None) -> WorkEstimate:
     """The curves to build, the extremes over the turn, the rows and their encoding (none for a
     chart); 413 first for more rows than max_table_samples."""
     check_limit("dynamics samples", body.samples, ctx.settings.max_table_samples, ("samples",))
-    costs, work = schedule_work(ctx, body.profile)
-    work += dynamics_work(costs, body.samples, schedule_field(body.profile), ("samples",))
+    work = follower_work(ctx, body.profile, body.samples)
     if fmt is None:
         return work
     return work + WorkEstimate((WorkTerm(("samples",), f"encoding {body.samples} rows",
                                          encode_cost(body.samples * DYNAMICS_COLUMNS, fmt.name == "csv")),))
+
+
+def follower_work(ctx: Context, profile: ProfileSpec, samples: int) -> WorkEstimate:
+    """The cam's curves, the follower's extremes over the turn and ``samples`` rows."""
+    costs, work = schedule_work(ctx, profile)
+    return work + dynamics_work(costs, samples, schedule_field(profile), ("samples",))
 
 
 def dynamics(ctx: Context, body: DynamicsRequest) -> FollowerDynamics:

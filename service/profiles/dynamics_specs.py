@@ -70,8 +70,18 @@ class RollerSpec(Spec):
                                self.cam_youngs_modulus_mpa, self.cam_poisson_ratio)
 
 
-class DynamicsRequest(Spec):
-    """A force-closed follower on a plate cam at a constant camshaft speed.
+#: the load's rules as JSON Schema (the validator below says the same)
+FOLLOWER_LOAD_RULES = [
+    rule(TRANSLATING_RULE, {"if": IS_TRANSLATING, "then": {"allOf": [given("mass_kg", "spring_rate_n_mm"),
+                                                                     absent(*OSCILLATING_FIELDS)]}}),
+    rule(OSCILLATING_RULE, {"if": IS_OSCILLATING, "then": {"allOf": [given("inertia_kgm2", "spring_rate_nm_rad"),
+                                                                     absent(*TRANSLATING_FIELDS)]}}),
+    rule(ROLLER_RULE, {"if": given("roller"), "then": {"not": NOT_ROLLER}})]
+
+
+class ForceClosedFollower(Spec):
+    """A plate cam and the load of its force-closed follower (what computeFollowerDynamics takes besides the
+    speed and the rows; a machine's plate-cam axis).
 
     A translating follower gives its load in N and mm (mass_kg, spring_rate_n_mm, preload_n,
     external_force_n, damping_n_s_mm); an oscillating one about its pivot in N·m and rad
@@ -80,17 +90,9 @@ class DynamicsRequest(Spec):
     (roller followers only) add the Hertz contact stress.
     """
 
-    model_config = examples(
-        DYNAMICS_EXAMPLE,
-        rules=[rule(TRANSLATING_RULE, {"if": IS_TRANSLATING,
-                                       "then": {"allOf": [given("mass_kg", "spring_rate_n_mm"),
-                                                          absent(*OSCILLATING_FIELDS)]}}),
-               rule(OSCILLATING_RULE, {"if": IS_OSCILLATING,
-                                       "then": {"allOf": [given("inertia_kgm2", "spring_rate_nm_rad"),
-                                                          absent(*TRANSLATING_FIELDS)]}}),
-               rule(ROLLER_RULE, {"if": given("roller"), "then": {"not": NOT_ROLLER}})])
+    model_config = examples({k: v for k, v in DYNAMICS_EXAMPLE.items() if k not in ("speed_rpm", "samples")},
+                            rules=FOLLOWER_LOAD_RULES)
     profile: ProfileSpec
-    speed_rpm: Positive = Field(description="N, the camshaft's speed")
     mass_kg: Positive | None = Field(None, description="translating: the moving mass, with the spring's share")
     spring_rate_n_mm: Positive | None = Field(None, description="translating: the spring rate k")
     preload_n: Finite | None = Field(None, description="translating: the spring force F0 at zero lift; default 0")
@@ -106,11 +108,9 @@ class DynamicsRequest(Spec):
     safety_margin_n: NonNegative = Field(0.0, description="the contact force the follower must keep, at the "
                                                           "follower point (oscillating: the torque over the lever arm)")
     roller: RollerSpec | None = Field(None, description="roller followers: width and materials, for the Hertz stress")
-    samples: Annotated[int, Field(ge=2), JSON_INTEGER] = Field(
-        361, description="rows of the table, evenly over 0-360° of cam angle, both ends included")
 
     @model_validator(mode="after")
-    def _check(self) -> DynamicsRequest:
+    def _check(self) -> ForceClosedFollower:
         oscillating = self.profile.follower.motion == "oscillating"
         own, other = (OSCILLATING_FIELDS, TRANSLATING_FIELDS) if oscillating else (TRANSLATING_FIELDS,
                                                                                   OSCILLATING_FIELDS)
@@ -133,6 +133,22 @@ class DynamicsRequest(Spec):
         assert self.mass_kg is not None and self.spring_rate_n_mm is not None
         return TranslatingLoad(self.mass_kg, self.spring_rate_n_mm, self.preload_n or 0.0,
                                self.external_force_n or 0.0, self.damping_n_s_mm or 0.0)
+
+
+class DynamicsRequest(ForceClosedFollower):
+    """A force-closed follower on a plate cam at a constant camshaft speed.
+
+    A translating follower gives its load in N and mm (mass_kg, spring_rate_n_mm, preload_n,
+    external_force_n, damping_n_s_mm); an oscillating one about its pivot in N·m and rad
+    (inertia_kgm2, spring_rate_nm_rad, preload_nm, external_torque_nm, damping_nm_s_rad).
+    safety_margin_n is a force at the follower point for both. The roller's width and materials
+    (roller followers only) add the Hertz contact stress. speed_rpm and samples: the speed and the rows.
+    """
+
+    model_config = examples(DYNAMICS_EXAMPLE, rules=FOLLOWER_LOAD_RULES)
+    speed_rpm: Positive = Field(description="N, the camshaft's speed")
+    samples: Annotated[int, Field(ge=2), JSON_INTEGER] = Field(
+        361, description="rows of the table, evenly over 0-360° of cam angle, both ends included")
 
 
 #: request examples of computeFollowerDynamics (Swagger UI pre-fills the first)

@@ -7,13 +7,13 @@ a roller's materials), :mod:`.hertz` (line contact of a roller on the cam surfac
 :mod:`.results` (what it answers).
 """
 
-from .compute import follower_dynamics
+from .compute import LoadedFollower, follower_dynamics
 from .hertz import effective_modulus_mpa, line_contact_pressure_mpa, roller_contact_radius_mm
 from .load import Coefficients, FollowerLoad, OscillatingLoad, RollerMaterials, TranslatingLoad
 from .results import DynamicsSummary, DynamicsTable, FollowerDynamics
 
 __all__ = [
-    "Coefficients", "DynamicsSummary", "DynamicsTable", "FollowerDynamics", "FollowerLoad", "OscillatingLoad",
+    "Coefficients", "DynamicsSummary", "DynamicsTable", "FollowerDynamics", "FollowerLoad", "LoadedFollower", "OscillatingLoad",
     "RollerMaterials", "TranslatingLoad", "effective_modulus_mpa", "follower_dynamics", "line_contact_pressure_mpa",
     "roller_contact_radius_mm",
 ]

@@ -83,8 +83,9 @@ class _State:
     kappa: FloatArray  # signed curvature of the pitch curve [1/mm]
 
 
-class _Follower:
-    """The follower's equation of motion on one cam, evaluated at any cam angles."""
+class LoadedFollower:
+    """The follower's equation of motion on one cam, evaluated at any cam angles (a machine's
+    plate-cam axis uses it as :func:`follower_dynamics` does, so both give the same numbers)."""
 
     def __init__(self, spec: CamSpec, load: FollowerLoad, margin_n: float, roller: RollerMaterials | None):
         self.spec = spec
@@ -126,9 +127,13 @@ class _Follower:
     def jump_omega(self, st: _State) -> FloatArray:
         """ω*(θ): the smallest ω > 0 with Q(θ, ω) = F_m·r, +inf where there is none, 0 where
         the margin is not met even at rest [rad/s]."""
-        a = self.co.mass * st.q2
-        b = self.co.damping * st.q1
-        c = self.static(st) - self.margin_n * st.arm
+        return self._first_root(self.co.mass * st.q2, self.co.damping * st.q1,
+                                self.static(st) - self.margin_n * st.arm)
+
+    @staticmethod
+    def _first_root(a: FloatArray, b: FloatArray, c: FloatArray) -> FloatArray:
+        """The smallest ω > 0 with a·ω² + b·ω + c = 0 (c > 0 at rest), +inf where there is none,
+        0 where c ≤ 0 [rad/s]."""
         with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
             disc = b * b - 4.0 * a * c
             root = np.sqrt(np.maximum(disc, 0.0))
@@ -138,6 +143,23 @@ class _Follower:
             omega = np.where(b > 0, np.where(a < 0, rising, np.inf),
                              np.where((disc >= 0) & (root - b > 0), falling, np.inf))
         return np.where(c <= 0, 0.0, np.where(np.isfinite(omega) & (omega > 0), omega, np.inf))
+
+    def stress_omega(self, st: _State, allowed_mpa: float) -> FloatArray:
+        """ω at which the Hertz pressure first reaches ``allowed_mpa`` at each angle, +inf where it
+        never does, 0 where it is exceeded at rest [rad/s].
+
+        p0 ≤ p_allowed is F_n ≤ F_allowed = p_allowed²·π·b·R/E* (:mod:`.hertz`), so, with
+        F_n = Q/(r·cos φ), the speed solves M·q''·ω² + C·q'·ω + (static − F_allowed·r·cos φ) = 0
+        rising through zero: :meth:`jump_omega`'s quadratic with every sign turned."""
+        assert self.roller is not None and self.e_star is not None
+        radius = roller_contact_radius_mm(self.model.roller_radius_mm, st.kappa)
+        allowed_n = allowed_mpa**2 * math.pi * self.roller.width_mm * radius / self.e_star
+        return self._first_root(-self.co.mass * st.q2, -self.co.damping * st.q1,
+                                allowed_n * st.arm * st.cos_phi - self.static(st))
+
+    def torque(self, st: _State, omega: float) -> FloatArray:
+        """T = Q·q', the camshaft torque by virtual work [N·m] (as :meth:`quantities`)."""
+        return self.pivot_force(st, omega) * st.q1
 
     def stress(self, st: _State, normal_n: FloatArray) -> FloatArray:
         """Hertz pressure p0 of the roller on the cam [MPa]."""
@@ -234,7 +256,7 @@ def follower_dynamics(spec: CamSpec, load: FollowerLoad, speed_rpm: float, sampl
     if isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 2:
         raise InvalidParameterError(f"samples must be a whole number ≥ 2, not {samples!r}.")
     _check_inputs(spec, load, roller)
-    follower = _Follower(spec, load, margin, roller)
+    follower = LoadedFollower(spec, load, margin, roller)
     omega = 2.0 * math.pi * speed_rpm / 60.0
     grid = check_grid(spec)
     if roller is not None:
@@ -291,7 +313,7 @@ def follower_dynamics(spec: CamSpec, load: FollowerLoad, speed_rpm: float, sampl
     return FollowerDynamics(spec.lift.unit, _table(follower, omega, samples), summary)
 
 
-def _table(follower: _Follower, omega: float, samples: int) -> DynamicsTable:
+def _table(follower: LoadedFollower, omega: float, samples: int) -> DynamicsTable:
     angle_deg = np.linspace(0.0, 360.0, samples)
     st = follower.state(np.radians(angle_deg))
     values = follower.quantities(st, omega)

@@ -1,0 +1,1 @@
+"""Machines: several axes on one camshaft (POST /v1/machines)."""
