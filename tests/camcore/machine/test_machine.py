@@ -161,6 +161,7 @@ def test_one_indexer_axis_is_its_own_sizing() -> None:
     axis = IndexerAxis("table", 0.0, unit, LOAD, internal_friction_torque_nm=1.5)
     sized = size(unit, LOAD, internal_friction_torque_nm=1.5, table_samples=181)
     table = sized.input_torque_table
+    assert table is not None
     inside = table.input_angle_deg < 120.0  # the index's rows (the dwell's rows are the internal friction)
     own = np.radians(table.input_angle_deg[inside])
     # the same expression at the same input angle, reached through radians and back: an ulp of the angle apart
