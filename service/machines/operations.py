@@ -10,6 +10,7 @@ camshaft torque; ``?format=cam-table`` one axis's servo cam table (``cam_table_a
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any
 
@@ -93,10 +94,10 @@ def _axis(ctx: Context, i: int, spec: AxisSpec) -> MachineAxis:
             with within("load"):
                 load = x.load.core()
             unit_at = indexer(ctx, x.indexer, speed_rpm=60.0)  # any speed: the axis sets its own from the camshaft
-            with within("indexer"):
-                return IndexerAxis(spec.name, spec.phase_deg, unit_at, load, ratio=x.ratio,
-                                   internal_friction_torque_nm=x.indexer.internal_friction_torque_nm,
-                                   rated_output_torque_nm=x.rated_output_torque_nm)
+            # IndexerAxis names its fields as the axis spec holds them (ratio, indexer.input_stop_time_s)
+            return IndexerAxis(spec.name, spec.phase_deg, unit_at, load, ratio=x.ratio,
+                               internal_friction_torque_nm=x.indexer.internal_friction_torque_nm,
+                               rated_output_torque_nm=x.rated_output_torque_nm)
         assert spec.motion is not None
         m = spec.motion
         program = resolve(ctx, m.motion.core())
@@ -125,18 +126,23 @@ def machine(ctx: Context, body: MachineRequest) -> Machine:
 
 # ----------------------------------------------------------------------------- the work
 def _axis_build_work(ctx: Context, i: int, spec: AxisSpec) -> WorkEstimate:
-    """Building the axis and its own checks, as its own operation's estimate counts them."""
-    with relocate((), ("axes", i, spec.mechanism)):
+    """Building the axis and its own checks, as its own operation's estimate counts them; each term at the
+    axis's field (its operation's fields are the axis spec's: a 413 names axes.<i>.<mechanism>.…)."""
+    at: tuple[str | int, ...] = ("axes", i, spec.mechanism)
+    with relocate((), at):
         if spec.plate_cam is not None:
-            return follower_work(ctx, spec.plate_cam.profile, 2)
-        if spec.barrel_cam is not None:
+            work = follower_work(ctx, spec.plate_cam.profile, 2)
+        elif spec.barrel_cam is not None:
             with relocate((), ("cam",)):
-                return barrel_work(ctx, spec.barrel_cam.cam, 2, 2, "json")
-        if spec.indexer is not None:
-            return indexer_work(ctx, spec.indexer.indexer, 2, False)
-        assert spec.motion is not None
-        costs, solved = program_costs(ctx, spec.motion.motion.core())
-        return motion_work(costs, solved, 0, ("motion", "segments"), ())
+                work = barrel_work(ctx, spec.barrel_cam.cam, 2, 2, "json")
+            at = (*at, "cam")
+        elif spec.indexer is not None:
+            work = indexer_work(ctx, spec.indexer.indexer, 2, False)
+        else:
+            assert spec.motion is not None
+            costs, solved = program_costs(ctx, spec.motion.motion.core())
+            work = motion_work(costs, solved, 0, ("motion", "segments"), ())
+    return WorkEstimate(tuple(dataclasses.replace(term, field=(*at, *term.field)) for term in work.terms))
 
 
 def _work(ctx: Context, body: MachineRequest, fmt: Format) -> WorkEstimate:
