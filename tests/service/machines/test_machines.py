@@ -18,11 +18,14 @@ import copy
 import csv
 import gc
 import io
+import json
 import math
+import re
 import struct
 import time
 import xml.etree.ElementTree as ET
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import httpx
@@ -158,9 +161,6 @@ async def test_cam_table_is_the_timing_column_and_its_slope(client: httpx.AsyncC
     shifted = np.roll(np.array(at_zero["timing"]["cam_mm"][:-1]), 180)
     # x − φ in radians vs the grid's own angle: 1e-16 rad of rounding on a slope ≤ 19 mm/rad
     assert np.array(timing["cam_mm"][:-1]) == pytest.approx(shifted, abs=1e-12)
-    # a cam table is one axis's
-    r = await client.post(URL, json=CAM_MACHINE, params={"format": "cam-table"})
-    assert r.status_code == 422 and r.json()["errors"][0]["loc"] == ["body", "cam_table_axis"], r.text
 
 
 def png_size(body: bytes) -> tuple[int, int]:
@@ -327,15 +327,25 @@ async def test_an_axis_over_the_budget_is_413_at_its_own_field(
 NOISE_S = 0.005
 
 
-@pytest.mark.parametrize("name", [n for n in MACHINE_EXAMPLES if n != next(iter(MACHINE_EXAMPLES))])
+def readme_machine() -> dict[str, Any]:
+    """The body of the README's curl recipe for POST /v1/machines."""
+    readme = (Path(__file__).resolve().parents[3] / "README.md").read_text(encoding="utf-8")
+    found = re.search(r"curl -X POST \S*/v1/machines .*?-d '(.*?)'", readme, re.DOTALL)
+    assert found, "the README's machine recipe"
+    body: dict[str, Any] = json.loads(found.group(1))
+    return body
+
+
+@pytest.mark.parametrize("name", [*[n for n in MACHINE_EXAMPLES if n != next(iter(MACHINE_EXAMPLES))], "README"])
 def test_the_estimate_bounds_the_work_of_the_other_examples(name: str) -> None:
     """test_every_operation runs the first example (feed_and_table) in every format; here the others: a drive
-    with its motor searches and a sweep, and all four kinds of axis with a kinked (η < 1) torque."""
+    with its motor searches and a sweep, all four kinds of axis with a kinked (η < 1) torque, and the README's
+    recipe (361 rows, the default curves)."""
     (operation,) = machine_operations.OPERATIONS
     assert operation.request is not None
+    value = readme_machine() if name == "README" else copy.deepcopy(MACHINE_EXAMPLES[name]["value"])
     ctx = Context.create(Settings())  # cold caches: every curve built
-    core = operation.convert(ctx, operation.request.model_validate(copy.deepcopy(MACHINE_EXAMPLES[name]["value"])),
-                             {})
+    core = operation.convert(ctx, operation.request.model_validate(value), {})
     estimate = operation.estimate(ctx, core, JSON).seconds
     assert estimate <= Settings().max_work_s  # the example is admitted
     gc.disable()
