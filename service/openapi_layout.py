@@ -33,6 +33,9 @@ TAGS: tuple[dict[str, str], ...] = (
     {"name": "cams", "description":
         "Cams beyond the plate cam: barrel cams, parallel indexing cams and roller-gear (globoidal) cams, "
         "with their geometry, checks and, for the roller-gear cam, the rib as an STL solid."},
+    {"name": "machines", "description":
+        "Several axes on one camshaft: the timing diagram, each axis's torque on the camshaft and the total, "
+        "the flywheel, the motor, the machine's top speed and why, and timing rules with their phase slack."},
     {"name": "spreadsheets", "description":
         "One field of any computation as text, for a spreadsheet cell's formula."},
     {"name": "service", "description": "The service itself: liveness, version and cache figures."},
@@ -40,8 +43,8 @@ TAGS: tuple[dict[str, str], ...] = (
 
 #: the document's header before its list of operations
 DESCRIPTION = """Cam design as a service: motion curves, motion programs, indexers, plate-cam profiles,
-toolpaths, solids, follower dynamics, residual vibration, and barrel, parallel-indexing and roller-gear
-cams.
+toolpaths, solids, follower dynamics, residual vibration, barrel, parallel-indexing and roller-gear
+cams, and machines of several axes on one camshaft.
 
 - **Curves**: Makino's universal cam curve and his special curves, the INDEXMAN catalog curves (MS, MCV50,
   MT, TR, …), polynomial laws, Bezier and measured-point curves: characteristic values (Vm, Am±, Jm±, Qm±),

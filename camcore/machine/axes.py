@@ -32,7 +32,7 @@ import numpy as np
 from .._checks import finite, positive
 from ..curves.base import FloatArray
 from ..errors import InvalidParameterError
-from ..indexer import Indexer, Load, TimedIndexer, size
+from ..indexer import Indexer, Load, TimedIndexer, origin_shift_deg, size, to_origin
 from ..indexer.drive import Cycle
 from ..indexer.sizing import machine_cycle
 from ..profile.cam import CamSpec
@@ -57,7 +57,7 @@ class SpeedLimit:
     at_deg: float | None = None  # master angle where it fails first
 
 
-def efficiency_applied(power_torque: FloatArray, efficiency: float) -> FloatArray:
+def _efficiency_applied(power_torque: FloatArray, efficiency: float) -> FloatArray:
     """T/η where the torque drives (T > 0), T·η where it brakes [N·m]."""
     if efficiency == 1.0:
         return power_torque
@@ -113,7 +113,22 @@ class MachineAxis(ABC):
 
 # ----------------------------------------------------------------------------- lifts
 def lift_dwells(lift: Lift) -> list[tuple[float, float]]:
-    """The pieces of a lift between its break points whose velocity is zero throughout."""
+    """Where a lift stands still: the pieces between its break points whose velocity is zero.
+
+    Parameters
+    ----------
+    lift : Lift
+        A lift over one turn (a plate cam's, a barrel cam's, a motion program's).
+
+    Returns
+    -------
+    list of (float, float)
+        Stretches [a, b] of the cam angle, merged where they touch [rad].
+
+    References
+    ----------
+    VDI 2143 Blatt 1 (1980): a dwell (rest) is a stretch of zero velocity between motion laws.
+    """
     breaks = np.unique(np.mod(np.asarray(lift.breaks_rad, dtype=np.float64), TWO_PI))
     edges = np.concatenate([[0.0], breaks[breaks > 0], [TWO_PI]])
     lo, hi = edges[:-1], edges[1:]
@@ -127,7 +142,22 @@ def lift_dwells(lift: Lift) -> list[tuple[float, float]]:
 
 
 def merge_spans(spans: list[tuple[float, float]]) -> list[tuple[float, float]]:
-    """Touching or overlapping stretches joined, in order."""
+    """Stretches joined where they touch or overlap.
+
+    Parameters
+    ----------
+    spans : list of (float, float)
+        Stretches [a, b] of an angle, in any order [rad or deg].
+
+    Returns
+    -------
+    list of (float, float)
+        Disjoint stretches, in order, in the unit given [rad or deg].
+
+    References
+    ----------
+    Interval union by a sweep over the sorted starts.
+    """
     out: list[tuple[float, float]] = []
     for a, b in sorted(spans):
         if out and a <= out[-1][1]:
@@ -252,7 +282,7 @@ class LiftLoadAxis(_LiftAxis):
         q1, q2 = self.to_si * h1, self.to_si * h2
         load = self.load
         pivot = load.mass * q2 * omega**2 + load.damping * q1 * omega + load.external
-        return efficiency_applied(pivot * q1, load.efficiency)
+        return _efficiency_applied(pivot * q1, load.efficiency)
 
     def checks(self, speed_rpm: float) -> dict[str, Any]:
         return self._checks
@@ -274,8 +304,11 @@ class IndexerAxis(MachineAxis):
     unit = "deg"
 
     def __init__(self, name: str, phase_deg: float, unit: Indexer | TimedIndexer, load: Load, *, ratio: int = 1,
-                 internal_friction_torque_nm: float = 0.0, rated_output_torque_nm: float | None = None):
+                 internal_friction_torque_nm: float = 0.0, rated_output_torque_nm: float | None = None,
+                 input_angle_origin: str = "index-start"):
         self.name, self.phase_deg, self.load = name, float(phase_deg), load
+        #: where the sizing's input angles start (the indexer's own answer's origin)
+        self.origin_shift_deg = origin_shift_deg(unit, input_angle_origin)
         if isinstance(ratio, bool) or not isinstance(ratio, int | np.integer) or ratio < 1:
             raise InvalidParameterError(
                 f"ratio must be a whole number ≥ 1 of input turns per camshaft turn, so the indexer's cycle repeats "
@@ -424,8 +457,9 @@ class IndexerAxis(MachineAxis):
         return self.ratio * out
 
     def checks(self, speed_rpm: float) -> dict[str, Any]:
-        sizing = as_dict(size(self._at_speed(speed_rpm), self.load, internal_friction_torque_nm=self.internal,
-                              table_samples=2))
+        unit = self._at_speed(speed_rpm)
+        sized = size(unit, self.load, internal_friction_torque_nm=self.internal, table_samples=2)
+        sizing = as_dict(to_origin(sized, self.origin_shift_deg, 360.0 / unit.dwells))
         sizing.pop("input_torque_table", None)
         return {"sizing": sizing}
 

@@ -89,7 +89,24 @@ def _words(c: Condition, unit: str) -> str:
 
 
 def master_spans(spans: list[tuple[float, float]], phase: float) -> list[tuple[float, float]]:
-    """Own-angle stretches [deg] moved to master angles, split where they pass 360°, merged."""
+    """Own-angle stretches moved to master angles, split where they pass 360°, merged.
+
+    Parameters
+    ----------
+    spans : list of (float, float)
+        Stretches [a, b] of the axis's own angle [deg].
+    phase : float
+        φ, the axis's phase [deg].
+
+    Returns
+    -------
+    list of (float, float)
+        The same stretches over the master angle, within [0, 360] [deg].
+
+    References
+    ----------
+    The phase of an axis: x = θ + φ (module notes).
+    """
     out: list[tuple[float, float]] = []
     for a, b in spans:
         a2, b2 = a + phase, b + phase
@@ -102,7 +119,7 @@ def master_spans(spans: list[tuple[float, float]], phase: float) -> list[tuple[f
     return merge_spans(out)
 
 
-def complement(spans: list[tuple[float, float]]) -> list[tuple[float, float]]:
+def _complement(spans: list[tuple[float, float]]) -> list[tuple[float, float]]:
     """The rest of [0, 360] (closed stretches: the shared edges are kept on both sides)."""
     out, edge = [], 0.0
     for a, b in spans:
@@ -114,7 +131,7 @@ def complement(spans: list[tuple[float, float]]) -> list[tuple[float, float]]:
     return out
 
 
-def intersect(first: list[tuple[float, float]], second: list[tuple[float, float]]) -> list[tuple[float, float]]:
+def _intersect(first: list[tuple[float, float]], second: list[tuple[float, float]]) -> list[tuple[float, float]]:
     """Stretches in both (a common edge alone is not an overlap)."""
     out = []
     for a, b in first:
@@ -126,10 +143,27 @@ def intersect(first: list[tuple[float, float]], second: list[tuple[float, float]
 
 
 def condition_set(c: Condition, axis: MachineAxis) -> list[tuple[float, float]]:
-    """Master angles [deg] where the condition holds, as closed stretches of [0, 360]."""
+    """Master angles where a condition holds.
+
+    Parameters
+    ----------
+    c : Condition
+        Moving, standing still, or the position at most / at least a level.
+    axis : MachineAxis
+        The axis it is about.
+
+    Returns
+    -------
+    list of (float, float)
+        Closed stretches of [0, 360], in order [deg].
+
+    References
+    ----------
+    Dowell and Jarratt (1971), the Illinois method (the crossings of a level, refined).
+    """
     if c.moving is not None:
         still = master_spans([(math.degrees(a), math.degrees(b)) for a, b in axis.dwells()], axis.phase_deg)
-        return complement(still) if c.moving else still
+        return _complement(still) if c.moving else still
     level = float(c.at_most if c.at_most is not None else c.at_least)  # type: ignore[arg-type]
     sign = 1.0 if c.at_most is not None else -1.0
 
@@ -163,12 +197,30 @@ def _joined(spans: list[tuple[float, float]]) -> list[tuple[float, float]]:
 
 
 def check_rule(rule: Rule, axes: dict[str, MachineAxis]) -> RuleResult:
-    """Where the rule is broken over one master turn, and its phase slack (see the module notes)."""
+    """Where a timing rule is broken over one master turn, and its phase slack.
+
+    Parameters
+    ----------
+    rule : Rule
+        While ``when`` holds, ``require`` must hold.
+    axes : dict of str to MachineAxis
+        The machine's axes by name.
+
+    Returns
+    -------
+    RuleResult
+        Whether it holds, the stretches where it does not (with their depth), and for a rule that
+        holds the phase slack earlier and later of the required axis [deg].
+
+    References
+    ----------
+    The module notes: the containment of the stretches, and the slack as their distances.
+    """
     a_axis, b_axis = axes[rule.require.axis], axes[rule.when.axis]
     words = f"while {_words(rule.when, b_axis.unit)}, {_words(rule.require, a_axis.unit)}"
     b_set = condition_set(rule.when, b_axis)
     a_set = condition_set(rule.require, a_axis)
-    broken = _joined(intersect(b_set, complement(a_set)))
+    broken = _joined(_intersect(b_set, _complement(a_set)))
     violations = []
     for lo, hi in broken:
         depth, unit = _depth(rule.require, a_axis, lo, hi)

@@ -5,7 +5,7 @@ Each axis is built as its own operation builds it (the same caches, limits and e
 :func:`service.cams.barrel.barrel_cam`, an indexer by :func:`service.indexers.operations.indexer`, a
 motion program by :func:`service.motions.operations.resolve`; camcore.machine does the rest.
 ``?format=csv`` the timing table; ``?format=png|svg`` the timing diagram or (``chart: torque``) the
-camshaft torque; ``?format=cam-table`` one axis's servo cam table (``cam_table_axis``).
+camshaft torque; ``?format=cam-table`` one axis's servo cam table (``cam_table_axis``, default the first).
 """
 
 from __future__ import annotations
@@ -97,7 +97,8 @@ def _axis(ctx: Context, i: int, spec: AxisSpec) -> MachineAxis:
             # IndexerAxis names its fields as the axis spec holds them (ratio, indexer.input_stop_time_s)
             return IndexerAxis(spec.name, spec.phase_deg, unit_at, load, ratio=x.ratio,
                                internal_friction_torque_nm=x.indexer.internal_friction_torque_nm,
-                               rated_output_torque_nm=x.rated_output_torque_nm)
+                               rated_output_torque_nm=x.rated_output_torque_nm,
+                               input_angle_origin=x.indexer.input_angle_origin)
         assert spec.motion is not None
         m = spec.motion
         program = resolve(ctx, m.motion.core())
@@ -167,11 +168,7 @@ def _work(ctx: Context, body: MachineRequest, fmt: Format) -> WorkEstimate:
 
 # ----------------------------------------------------------------------------- the answer
 def _cam_table(m: Machine, body: MachineRequest) -> Payload:
-    name = body.cam_table_axis
-    if name is None:
-        raise InvalidParameterError("a cam table is one axis's: give cam_table_axis (the axis's name).",
-                                    field=("cam_table_axis",))
-    axis = m.by_name[name]
+    axis = m.by_name[body.cam_table_axis] if body.cam_table_axis is not None else m.axes[0]
     x_deg = np.linspace(0.0, 360.0, body.samples)
     s, v, a = axis.derivatives_per_deg(axis.own(np.radians(x_deg)))
     return Payload(CAM_TABLE.write(CamTable(x_deg, s, v, a, axis.unit)))
@@ -212,6 +209,15 @@ def _check_numbers(value: Any, where: str) -> None:
                                    "check that they describe a realistic machine.")
 
 
+def _cam_table_examples() -> dict[str, Any]:
+    """The examples, each writing its last axis's cam table."""
+    out: dict[str, Any] = {}
+    for name, example in MACHINE_EXAMPLES.items():
+        value: dict[str, Any] = dict(example.get("value") or {})
+        out[name] = {**example, "value": {**value, "cam_table_axis": value["axes"][-1]["name"]}}
+    return out
+
+
 OPERATIONS = (
     Operation("computeMachine", "/v1/machines", "machines", "Machine: several axes on one camshaft",
               "The timing diagram (every axis's position and normalised position over the master angle), each axis's "
@@ -219,9 +225,8 @@ OPERATIONS = (
               "motor check, each axis's own checks, the speed limits (each axis's first failure speed and the "
               "machine's top speed), the timing rules (where broken, phase slack) and a speed sweep; "
               "``?format=csv``: the timing table; ``?format=png|svg``: the timing diagram (``chart: torque``: the "
-              "camshaft torque); ``?format=cam-table``: one axis's servo cam table (``cam_table_axis``).",
+              "camshaft torque); ``?format=cam-table``: one axis's servo cam table (``cam_table_axis``, default the "
+              "first axis).",
               MachineRequest, _compute, estimate=_work, answer=MachineAnswer, formats=FORMATS,
-              examples=MACHINE_EXAMPLES, format_examples={CAM_TABLE.name: {
-                  name: {**example, "value": {**example["value"], "cam_table_axis": example["value"]["axes"][-1]["name"]}}
-                  for name, example in MACHINE_EXAMPLES.items()}}),
+              examples=MACHINE_EXAMPLES, format_examples={CAM_TABLE.name: _cam_table_examples()}),
 )

@@ -25,8 +25,10 @@ from service.specs import (
     FieldRuleError,
     Finite,
     Spec,
+    absent,
     exactly_one,
     examples,
+    given,
     rule,
 )
 
@@ -44,6 +46,15 @@ MAX_SPEEDS = 32
 
 DRIVEN_RULE = ("a driven load in mm (a translating follower, a motion in mm) is mass_kg and force_n; in deg (an "
                "oscillating follower, a motion in deg) inertia_kgm2 and torque_nm")
+STOPLESS_RULE = ("an indexer geared to the camshaft turns with it: its input cannot stand still (input_stop_time_s "
+                 "must be 0)")
+ALLOWED_STRESS_RULE = "allowed_stress_mpa needs the roller's width and materials (roller)"
+
+
+def _driven_rules(in_deg: dict[str, Any]) -> list[dict[str, Any]]:
+    """The load's fields by the lift's unit, as JSON Schema (``in_deg``: the condition of a lift in deg)."""
+    return [rule(DRIVEN_RULE, {"if": in_deg, "then": {"allOf": [given("inertia_kgm2"), absent("mass_kg", "force_n")]},
+                               "else": {"allOf": [given("mass_kg"), absent("inertia_kgm2", "torque_nm")]}})]
 
 
 class DrivenLoadFields(Spec):
@@ -77,15 +88,16 @@ class PlateCamAxisSpec(ForceClosedFollower):
     the rows) and, with the roller's materials, the Hertz stress allowed."""
 
     model_config = examples({"profile": ROLLER_PROFILE_EXAMPLE, "mass_kg": 0.5, "spring_rate_n_mm": 2,
-                             "preload_n": 30, "safety_margin_n": 5}, rules=FOLLOWER_LOAD_RULES)
+                             "preload_n": 30, "safety_margin_n": 5},
+                            rules=[*FOLLOWER_LOAD_RULES, rule(ALLOWED_STRESS_RULE, {"if": given("allowed_stress_mpa"),
+                                                                                    "then": given("roller")})])
     allowed_stress_mpa: Positive | None = Field(
         None, description="with roller: the Hertz pressure allowed; the speed at which it is reached is a speed limit")
 
     @model_validator(mode="after")
     def _allowed(self) -> PlateCamAxisSpec:
         if self.allowed_stress_mpa is not None and self.roller is None:
-            raise FieldRuleError("allowed_stress_mpa needs the roller's width and materials (roller)",
-                                 "allowed_stress_mpa")
+            raise FieldRuleError(ALLOWED_STRESS_RULE, "allowed_stress_mpa")
         return self
 
 
@@ -96,7 +108,8 @@ class BarrelAxisSpec(DrivenLoadFields):
         "pitch_radius_mm": 50, "roller_radius_mm": 10, "roller_length_mm": 12,
         "segments": [{"type": "rise", "angle_deg": 120, "lift_mm": 30}, {"type": "dwell", "angle_deg": 60},
                      {"type": "return", "angle_deg": 120, "lift_mm": 30}, {"type": "dwell", "angle_deg": 60}]},
-        "mass_kg": 3, "force_n": 20})
+        "mass_kg": 3, "force_n": 20}, rules=_driven_rules({"required": ["cam"], "properties": {"cam": {
+            "required": ["follower"], "properties": {"follower": {"const": "oscillating"}}}}}))
     cam: BarrelCamRequest
 
     @model_validator(mode="after")
@@ -109,7 +122,9 @@ class IndexerAxisSpec(Spec):
     """An indexer on the camshaft: its input turns ``ratio`` times per camshaft turn (its speed is the camshaft's
     × ratio), driving its load."""
 
-    model_config = examples({"indexer": INDEXER_SHAPE_EXAMPLE, "load": LOAD_EXAMPLE, "ratio": 1})
+    model_config = examples({"indexer": INDEXER_SHAPE_EXAMPLE, "load": LOAD_EXAMPLE, "ratio": 1},
+                            rules=[rule(STOPLESS_RULE, {"properties": {"indexer": {"properties": {
+                                "input_stop_time_s": {"maximum": 0}}}}})])
     indexer: IndexerShape
     load: LoadSpec
     ratio: Annotated[int, Field(ge=1, le=100), JSON_INTEGER] = Field(
@@ -118,6 +133,12 @@ class IndexerAxisSpec(Spec):
         None, description="the unit's rated output torque (the maker's): the speed at which the design output torque "
                           "reaches it is a speed limit")
 
+    @model_validator(mode="after")
+    def _turning(self) -> IndexerAxisSpec:
+        if self.indexer.input_stop_time_s:
+            raise FieldRuleError(STOPLESS_RULE, "indexer", "input_stop_time_s")
+        return self
+
 
 class MotionAxisSpec(DrivenLoadFields):
     """A motion program (a servo-free slave on the camshaft, or a linkage's output) driving a load."""
@@ -125,7 +146,8 @@ class MotionAxisSpec(DrivenLoadFields):
     model_config = examples({"motion": {"unit": "mm", "segments": [
         {"span_deg": 120, "to": 40, "curve": {"type": "named", "name": "cycloid"}}, {"span_deg": 60, "type": "dwell"},
         {"span_deg": 120, "to": 0, "curve": {"type": "named", "name": "cycloid"}}, {"span_deg": 60, "type": "dwell"}]},
-        "mass_kg": 2, "force_n": 0, "efficiency": 0.95})
+        "mass_kg": 2, "force_n": 0, "efficiency": 0.95}, rules=_driven_rules({"required": ["motion"], "properties": {
+            "motion": {"required": ["unit"], "properties": {"unit": {"const": "deg"}}}}}))
     motion: MotionSpec
 
     @model_validator(mode="after")
@@ -288,7 +310,7 @@ class MachineRequest(Spec):
                                        description="a sweep: the summary at each of these camshaft speeds")
     cam_table_axis: AxisName | None = Field(
         None, description="?format=cam-table: the axis whose servo cam table is written (over the master angle, at "
-                          "its phase)")
+                          "its phase); default the first axis")
     chart: Literal["timing", "torque"] = Field(
         "timing", description="?format=png|svg: the timing diagram, or the camshaft torque (per axis, total, motor)")
 

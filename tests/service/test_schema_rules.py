@@ -203,6 +203,18 @@ def indexer_vibration(**fields: Any) -> tuple[str, dict[str, Any]]:
 TAU_RANGE = {"start": 0.5, "stop": 5, "samples": 10}
 
 
+#: a machine: one translating roller cam, and a 6-stop table at 200° (service/machines/specs.py)
+MACHINE_CAM = {"profile": profile(), "mass_kg": 0.5, "spring_rate_n_mm": 2, "preload_n": 30}
+MACHINE_TABLE = {"indexer": {"stops": 6, "indexing_angle_deg": 90}, "load": {"parts": [DISC]}}
+
+
+def machine(axes: list[dict[str, Any]] | None = None, **fields: Any) -> tuple[str, dict[str, Any]]:
+    body = {"master": {"speed_rpm": 60}, "samples": 11,
+            "axes": axes or [{"name": "feed", "plate_cam": MACHINE_CAM},
+                             {"name": "table", "phase_deg": 200, "indexer": MACHINE_TABLE}], **fields}
+    return "/v1/machines", {k: v for k, v in body.items() if v is not None}
+
+
 #: rule → (bodies that keep it, [(a body that breaks it, words of the app's 422)]).
 #: A model rule is named by its description in the document, a keyword by its JSON pointer.
 RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, dict[str, Any]], str]]]] = {
@@ -487,6 +499,41 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
     "a translating barrel-cam follower's lift is lift_mm, not swing_deg": (
         [barrel()],
         [(barrel(segments=segments({"swing_deg": 20})), "a translating barrel-cam follower's lift is lift_mm")]),
+    # machines
+    "give exactly one mechanism: plate_cam, barrel_cam, indexer or motion": (
+        [machine()],
+        [(machine([{"name": "feed", "plate_cam": MACHINE_CAM, "indexer": MACHINE_TABLE}]), "give exactly one mechanism"),
+         (machine([{"name": "feed"}]), "give exactly one mechanism")]),
+    "give exactly one of moving, at_most and at_least": (
+        [machine(rules=[{"while": {"axis": "table", "moving": True}, "require": {"axis": "feed", "at_most": 1}}])],
+        [(machine(rules=[{"while": {"axis": "table", "moving": True, "at_least": 3},
+                          "require": {"axis": "feed", "at_most": 1}}]), "give exactly one of moving"),
+         (machine(rules=[{"while": {"axis": "table"}, "require": {"axis": "feed", "at_most": 1}}]),
+          "give exactly one of moving")]),
+    "give exactly one of speed_rpm and cycle_time_s": (
+        [machine(master={"cycle_time_s": 0.5})],
+        [(machine(master={"speed_rpm": 60, "cycle_time_s": 1}), "give exactly one of speed_rpm and cycle_time_s"),
+         (machine(master={}), "give exactly one of speed_rpm and cycle_time_s")]),
+    "allowed_stress_mpa needs the roller's width and materials (roller)": (
+        [machine([{"name": "feed", "plate_cam": {**MACHINE_CAM, "roller": {"width_mm": 10},
+                                                 "allowed_stress_mpa": 900}}])],
+        [(machine([{"name": "feed", "plate_cam": {**MACHINE_CAM, "allowed_stress_mpa": 900}}]),
+          "allowed_stress_mpa needs the roller")]),
+    "an indexer geared to the camshaft turns with it: its input cannot stand still (input_stop_time_s must be 0)": (
+        [machine()],
+        [(machine([{"name": "table", "indexer": {**MACHINE_TABLE, "indexer": {
+            **MACHINE_TABLE["indexer"], "input_stop_time_s": 0.1}}}]), "its input cannot stand still")]),
+    "a driven load in mm (a translating follower, a motion in mm) is mass_kg and force_n; in deg (an oscillating "
+    "follower, a motion in deg) inertia_kgm2 and torque_nm": (
+        [machine([{"name": "push", "motion": {"motion": CLOSED_MM, "mass_kg": 2}}]),
+         machine([{"name": "swing", "motion": {"motion": {**CLOSED_MM, "unit": "deg"}, "inertia_kgm2": 0.1}}])],
+        [(machine([{"name": "push", "motion": {"motion": CLOSED_MM, "inertia_kgm2": 2}}]), "a driven load in mm"),
+         (machine([{"name": "swing", "motion": {"motion": {**CLOSED_MM, "unit": "deg"}, "mass_kg": 1,
+                                                "inertia_kgm2": 0.1}}]), "a driven load in mm")]),
+    "give exactly one of speed_fluctuation and inertia_kgm2": (
+        [machine(flywheel={"speed_fluctuation": 0.05}), machine(flywheel={"inertia_kgm2": 2})],
+        [(machine(flywheel={"speed_fluctuation": 0.05, "inertia_kgm2": 2}), "give exactly one of speed_fluctuation"),
+         (machine(flywheel={}), "give exactly one of speed_fluctuation")]),
 }
 
 
@@ -615,6 +662,8 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     # a motion program that must close as a cam's lift: the sum of its strokes (solved ones among
     # them) compared with zero
     "the motion program does not close",
+    # machines: names compared across the axes and the rules; an oscillating unit's strokes (ratio × dwells)
+    "axis names must be unique", "is not an axis of this machine", "strokes per camshaft turn must be even",
     # a result beyond the range of float64
     "produced a non-finite number",
 )))
