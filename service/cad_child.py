@@ -2,7 +2,7 @@
 :mod:`service.cad_pool`, never imported by a worker.
 
 It loads the OpenCASCADE bindings, says ``ready`` on the connection it was handed (file
-descriptor ``FD``), then writes one solid per message it receives, ``(format, SolidCam,
+descriptor ``FD``), then writes one solid per message it receives, ``(format, KernelSolid,
 deadline_s)``, answering ``("ok", bytes)`` or ``("error", module, class, args, attributes)``
 for an exception (camcore's errors do not unpickle by themselves: their ``__init__`` takes
 other arguments than their ``args``). It exits when the connection closes. Its imports are

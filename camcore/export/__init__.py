@@ -15,7 +15,7 @@ from .cam_table import MOTION_FORMATS, CamTable, cam_table_csv
 from .contour import FORMATS, Contour, contour_csv, contour_dxf, contour_xyz
 from .mesh import mesh_stl
 from .registry import FileFormat
-from .solid import SOLID_FORMATS, SolidCam, solid_step, solid_stl
+from .solid import SOLID_FORMATS, KernelSolid, SolidCam, solid_step, solid_stl
 from .toolpath import TOOLPATH_FORMATS, ToolpathFile, toolpath_dxf, toolpath_gcode
 
 #: a contour download (the registry entry's older name)
@@ -23,6 +23,6 @@ ContourFormat = FileFormat
 
 __all__ = [
     "FORMATS", "MOTION_FORMATS", "SOLID_FORMATS", "TOOLPATH_FORMATS", "CamTable", "Contour", "ContourFormat",
-    "FileFormat", "SolidCam", "ToolpathFile", "cam_table_csv", "contour_csv", "contour_dxf", "contour_xyz",
+    "FileFormat", "KernelSolid", "SolidCam", "ToolpathFile", "cam_table_csv", "contour_csv", "contour_dxf", "contour_xyz",
     "mesh_stl", "solid_step", "solid_stl", "toolpath_dxf", "toolpath_gcode",
 ]

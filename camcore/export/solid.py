@@ -30,7 +30,7 @@ import re
 import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -48,6 +48,28 @@ _PRODUCT = re.compile(rb"PRODUCT\('[^']*',\s*'[^']*'")
 #: and at 2e-7 mm the kernel still made one, with a different STEP file), far below any plate
 #: anyone cuts (shim stock starts at 0.01 mm)
 MIN_THICKNESS_MM = 1e-3
+
+
+class KernelSolid(Protocol):
+    """What the kernel's writers take: a solid that builds its own shape (the plate cam's
+    :class:`SolidCam`; other cams add theirs, each in its own module).
+
+    ``tolerance_mm``: the largest deviation of the solid from the exact surfaces [mm];
+    ``max_triangles``: the most STL facets [-]; ``product_name``: the part's name in a STEP file.
+    ``shape(tolerance_mm)`` builds the OpenCASCADE ``TopoDS_Shape`` with its surfaces fitted within
+    that tolerance; ``facets_estimate(deflection_mm)`` tells, before any meshing, how many facets a
+    mesh at that chordal deviation will have.
+    """
+
+    tolerance_mm: float
+    max_triangles: int
+
+    @property
+    def product_name(self) -> str: ...
+
+    def shape(self, tolerance_mm: float) -> Any: ...
+
+    def facets_estimate(self, deflection_mm: float) -> int: ...
 
 
 @dataclass(frozen=True)
@@ -76,6 +98,18 @@ class SolidCam:
     tolerance_mm: float = 0.01
     max_elements: int = 100_000
     max_triangles: int = 1_000_000
+
+    @property
+    def product_name(self) -> str:
+        return PRODUCT_NAME
+
+    def shape(self, tolerance_mm: float) -> Any:
+        """:func:`build_solid` at that tolerance."""
+        return build_solid(self, tolerance_mm)
+
+    def facets_estimate(self, deflection_mm: float) -> int:
+        """:func:`stl_triangles_estimate` of the contour fitted to that deviation."""
+        return stl_triangles_estimate(_contour(self, deflection_mm), self.bore_diameter_mm, deflection_mm)
 
 
 def _contour(solid: SolidCam, tolerance_mm: float) -> CutterPath:
@@ -211,13 +245,13 @@ def _through_file(suffix: str, write: Callable[[str], None]) -> bytes:
         os.unlink(name)
 
 
-def solid_step(solid: SolidCam) -> bytes:
-    """The cam as a STEP AP214 file of one solid (module notes).
+def solid_step(solid: KernelSolid) -> bytes:
+    """A solid as a STEP AP214 file (module notes).
 
     Parameters
     ----------
-    solid : SolidCam
-        The cam, its thickness and bore [mm], the contour's tolerance [mm].
+    solid : KernelSolid
+        The solid (a plate cam: its thickness and bore [mm], the contour's tolerance [mm]).
 
     Returns
     -------
@@ -232,7 +266,7 @@ def solid_step(solid: SolidCam) -> bytes:
     from OCP.Interface import Interface_Static
     from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
 
-    shape = build_solid(solid)
+    shape = solid.shape(solid.tolerance_mm)
 
     def write(name: str) -> None:
         Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
@@ -244,8 +278,8 @@ def solid_step(solid: SolidCam) -> bytes:
 
     # the part's name in a CAD tree: the kernel names it after a count of the files this process
     # has written ("Open CASCADE STEP translator 8.0 17"), so the same cam gave other bytes
-    return _PRODUCT.sub(b"PRODUCT('" + PRODUCT_NAME.encode() + b"','" + PRODUCT_NAME.encode() + b"'",
-                        _through_file(".step", write), count=1)
+    name = solid.product_name.encode()
+    return _PRODUCT.sub(b"PRODUCT('" + name + b"','" + name + b"'", _through_file(".step", write), count=1)
 
 
 def stl_triangles_estimate(path: CutterPath, bore_diameter_mm: float, deflection_mm: float) -> int:
@@ -281,13 +315,13 @@ def stl_triangles_estimate(path: CutterPath, bore_diameter_mm: float, deflection
     return 4 * count
 
 
-def solid_stl(solid: SolidCam) -> bytes:
-    """The cam as a binary STL of the kernel's mesh (module notes).
+def solid_stl(solid: KernelSolid) -> bytes:
+    """A solid as a binary STL of the kernel's mesh (module notes).
 
     Parameters
     ----------
-    solid : SolidCam
-        The cam, its thickness and bore [mm], the tolerance [mm] and the facet limit [-].
+    solid : KernelSolid
+        The solid (a plate cam: its thickness and bore [mm]), the tolerance [mm] and the facet limit [-].
 
     Returns
     -------
@@ -314,10 +348,10 @@ def solid_stl(solid: SolidCam) -> bytes:
     from OCP.TopoDS import TopoDS
 
     half = 0.5 * solid.tolerance_mm
-    estimate = stl_triangles_estimate(_contour(solid, half), solid.bore_diameter_mm, half)
+    estimate = solid.facets_estimate(half)
     if estimate > solid.max_triangles:
         raise LimitExceededError("STL facets", estimate, solid.max_triangles, field=("solid", "tolerance_mm"))
-    shape = build_solid(solid, half)
+    shape = solid.shape(half)
     params = IMeshTools_Parameters()
     params.Deflection, params.Angle, params.Relative, params.InParallel = half, 0.5, False, False
     # Delabella's Delaunay triangulation: the default (Watson) takes seconds on a flat face
@@ -344,7 +378,7 @@ def solid_stl(solid: SolidCam) -> bytes:
 
 #: solid downloads, by name; ``cost(elements)`` of the contour, measured on camcore.work's
 #: reference machine (kernel build and write ~30-60 ms, meshing ~0.1 ms a contour element), ×2
-SOLID_FORMATS: dict[str, FileFormat[SolidCam]] = {f.name: f for f in (
+SOLID_FORMATS: dict[str, FileFormat[KernelSolid]] = {f.name: f for f in (
     FileFormat("step", "model/step", "cam.step",
                "STEP AP214 solid in mm (OpenCASCADE): the plate cam extruded with its bore, lines and arcs within "
                "the tolerance", solid_step, lambda elements: 2 * (0.06 + 2e-4 * elements)),
