@@ -11,6 +11,7 @@ from service.cams import barrel, parallel, roller_gear
 from service.curves import operations as curves
 from service.curves import sweep as characteristics_sweep
 from service.curves import vibration as curve_vibration
+from service.indexers import design as indexer_design
 from service.indexers import operations as indexers
 from service.indexers import sweep as sizing_sweep
 from service.indexers import vibration as indexer_vibration
@@ -23,7 +24,7 @@ from service.profiles import operations as profiles
 OPERATIONS: tuple[Operation, ...] = (
     *health.OPERATIONS,
     *curves.OPERATIONS, *characteristics_sweep.OPERATIONS, *curve_vibration.OPERATIONS,
-    *indexers.OPERATIONS, *sizing_sweep.OPERATIONS, *indexer_vibration.OPERATIONS,
+    *indexers.OPERATIONS, *sizing_sweep.OPERATIONS, *indexer_vibration.OPERATIONS, *indexer_design.OPERATIONS,
     *motions.OPERATIONS,
     *profiles.OPERATIONS, *toolpath.OPERATIONS, *dynamics.OPERATIONS,
     *barrel.OPERATIONS, *parallel.OPERATIONS, *roller_gear.OPERATIONS,

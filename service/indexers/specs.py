@@ -261,8 +261,8 @@ class MotorSpec(Spec):
     reduction_efficiency: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=1)] = 1.0
 
     def core(self) -> Motor:
-        """The motor as camcore takes it."""
-        return Motor(**self.model_dump())
+        """The motor as camcore takes it (its own fields: a named motor's name is not the motor's data)."""
+        return Motor(**self.model_dump(include=set(MotorSpec.model_fields)))
 
 
 class SizingRequest(Spec):

@@ -530,6 +530,18 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
         [(machine([{"name": "push", "motion": {"motion": CLOSED_MM, "inertia_kgm2": 2}}]), "a driven load in mm"),
          (machine([{"name": "swing", "motion": {"motion": {**CLOSED_MM, "unit": "deg"}, "mass_kg": 1,
                                                 "inertia_kgm2": 0.1}}]), "a driven load in mm")]),
+    "give exactly one of speed_rpm (N) and cycle_time_s (t0)": (
+        [("/v1/indexers/design", {"stops": 6, "load": {"parts": [DISC]}, "speed_rpm": 60,
+                                  "indexing_angles_deg": [120], "curves": [MS]})],
+        [(("/v1/indexers/design", {"stops": 6, "load": {"parts": [DISC]}, "speed_rpm": 60, "cycle_time_s": 1}),
+          "give exactly one of speed_rpm (N) and cycle_time_s (t0)"),
+         (("/v1/indexers/design", {"stops": 6, "load": {"parts": [DISC]}}),
+          "give exactly one of speed_rpm (N) and cycle_time_s (t0)")]),
+    "ranking by motor needs motors to choose from": (
+        [("/v1/indexers/design", {"stops": 6, "load": {"parts": [DISC]}, "speed_rpm": 60, "criterion": "rms_input_torque",
+                                  "indexing_angles_deg": [120], "curves": [MS]})],
+        [(("/v1/indexers/design", {"stops": 6, "load": {"parts": [DISC]}, "speed_rpm": 60, "criterion": "motor"}),
+          "ranking by motor needs motors")]),
     "give exactly one of speed_fluctuation and inertia_kgm2": (
         [machine(flywheel={"speed_fluctuation": 0.05}), machine(flywheel={"inertia_kgm2": 2})],
         [(machine(flywheel={"speed_fluctuation": 0.05, "inertia_kgm2": 2}), "give exactly one of speed_fluctuation"),
@@ -662,6 +674,8 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     # a motion program that must close as a cam's lift: the sum of its strokes (solved ones among
     # them) compared with zero
     "the motion program does not close",
+    # indexer design: motor names compared, a dwell against the cycle, what the candidates turn out to be
+    "motor names must be unique", "is the whole cycle t0", "no candidate meets every requirement",
     # machines: names compared across the axes and the rules; an oscillating unit's strokes (ratio × dwells)
     "axis names must be unique", "is not an axis of this machine", "strokes per camshaft turn must be even",
     # a result beyond the range of float64

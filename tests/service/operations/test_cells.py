@@ -206,7 +206,7 @@ async def test_a_spec_rule_refuses_the_cell_as_it_refuses_the_body(
 
 async def test_refusals_that_are_not_about_the_spec_keep_their_status(client: httpx.AsyncClient) -> None:
     unknown = await client.get("/v1/cell/sizeIndexr?pick=x")
-    assert unknown.status_code == 422 and "Did you mean: sizeIndexer?" in unknown.json()["detail"]
+    assert unknown.status_code == 422 and "Did you mean: sizeIndexer" in unknown.json()["detail"]
     curve = {"curve.type": "named", "curve.name": "MZ", "pick": "vm"}
     missing = await client.get("/v1/cell/getCurveCharacteristics?" + urlencode(curve))
     assert missing.status_code == 404  # the catalog has no such curve, as POST answers
