@@ -69,10 +69,34 @@ def cutting_feed(t4: float) -> UniversalCurve:
     t4 = finite("T4", t4)
     if not 0 <= t4 < 1:
         raise InvalidParameterError(f"T4 must satisfy 0 ≤ T4 < 1, got {t4!r}.")
-    amm = PI / (4.0 * (1.0 - t4) ** 2 / PI + 2.0 * (1.0 - t4) * t4)
-    v0 = 2.0 * (1.0 - t4) * amm / PI
+    v0, amm = cutting_feed_ends(t4)
     # the feed stops: S7 = 1 and V7 = 0 by construction
     return UniversalCurve((0.0, 0.0, 0.0, 0.0, t4, 1.0, 1.0, 1.0), amp=0.0, amm=amm, v0=v0, s7=1.0, v7=0.0)
+
+
+def cutting_feed_ends(t4: float) -> tuple[float, float]:
+    """Curve 2's start velocity V0 and its stopping acceleration Amm, without building the curve.
+
+    The curve runs at V0 from T = 0 (A = 0) to T4, then stops by a quarter sine, ending at S = 1,
+    V = 0, A = −Amm: these are its ends, so a motion program solving T4 for a continuous
+    acceleration (:mod:`camcore.motion.resolve`) needs only them, not a curve per trial T4.
+
+    Parameters
+    ----------
+    t4 : float
+        End of the constant-velocity stretch, 0 ≤ T4 < 1 [-].
+
+    Returns
+    -------
+    (float, float)
+        V0 = 2(1−T4)·Amm/π and Amm = π / (4(1−T4)²/π + 2(1−T4)T4) [-].
+
+    References
+    ----------
+    Makino (1977), §5.3; subroutine CURVE, lines 42-55.
+    """
+    amm = PI / (4.0 * (1.0 - t4) ** 2 / PI + 2.0 * (1.0 - t4) * t4)
+    return 2.0 * (1.0 - t4) * amm / PI, amm
 
 
 def modified_constant_velocity(t1: float, t3: float) -> UniversalCurve:

@@ -44,6 +44,8 @@ from numpy.typing import NDArray
 from .._solvers import scan_roots
 from ..curves.curve import Curve
 from ..curves.kinds import build_curve
+from ..curves.makino import cutting_feed_ends
+from ..curves.universal import MIN_SECTION
 from ..errors import CamError, InvalidParameterError
 from ._segment import Segment, describe_adaptive
 from .laws import (
@@ -345,16 +347,24 @@ class _Resolver:
         with _at_segment(seg.index, "curve"):  # a law that cannot be built at all says why (not "no root")
             self.fresh(with_parameter(seg.law, name, lo))
 
-        def trial(value: float) -> tuple[float, float, Curve, float, float]:
-            """(residual, stroke, curve, end acceleration, next start acceleration) at a trial value."""
-            curve = self.fresh(with_parameter(seg.law, name, value))  # type: ignore[arg-type]  # asserted above
-            start, end = normalised_ends(curve)
+        def trial(value: float) -> tuple[float, float, float, float]:
+            """(residual, stroke, end acceleration, next start acceleration) at a trial value, from the law's
+            ends in closed form (:func:`cutting_feed_ends`: no curve built per trial). They equal the built
+            curve's own ends (its N′(0) and N″(1)) bit for bit (tests/camcore/curves/test_makino.py) but where a
+            piece of the curve is shorter than MIN_SECTION and merged into its neighbour (T4 within it of 0 or
+            1): there the curve is built, as before."""
+            if value < MIN_SECTION or 1.0 - value < MIN_SECTION:
+                start, end = normalised_ends(self.fresh(with_parameter(seg.law, name, value)))  # type: ignore[arg-type]
+                v_start, a_end_normal = start[1], end[2]
+            else:
+                v_start, amm = cutting_feed_ends(value)
+                a_end_normal = -amm
             if solving:
-                stroke = self._solved_stroke(seg, start[1], v_prev, prev.index)
+                stroke = self._solved_stroke(seg, v_start, v_prev, prev.index)
             else:
                 stroke = seg.stroke if seg.stroke is not None else float(seg.segment.to) - s_a  # type: ignore[arg-type]
-            a_end, a_next = stroke * end[2] / seg.span**2, next_start(stroke)
-            return a_end - a_next, stroke, curve, a_end, a_next
+            a_end, a_next = stroke * a_end_normal / seg.span**2, next_start(stroke)
+            return a_end - a_next, stroke, a_end, a_next
 
         def residual(values: NDArray[np.float64]) -> NDArray[np.float64]:
             out = np.empty(values.shape)
@@ -371,7 +381,7 @@ class _Resolver:
             finite = np.flatnonzero(np.isfinite(f))
             shown = ""
             if finite.size:
-                _, _, _, a_end, a_next = trial(float(grid[finite[0]]))
+                _, _, a_end, a_next = trial(float(grid[finite[0]]))
                 unit = f"{self.spec.unit}/deg²"
                 shown = (f" (at {name} = {grid[finite[0]]:g} it ends at a = {a_end:.6g} {unit} and segments[{nxt.index}] "
                          f"starts at {a_next:.6g} {unit}; the difference keeps its sign up to {name} → {hi:g})")
@@ -384,7 +394,9 @@ class _Resolver:
             raise InvalidParameterError(
                 f"several values of {name} ({listed}) make the acceleration continuous at the end of this curve 2; "
                 f"give the one you mean.", field=("curve", name))
-        _, stroke, curve, _, _ = trial(roots[0])
+        _, stroke, _, _ = trial(roots[0])
+        with _at_segment(seg.index, "curve"):
+            curve = self.fresh(with_parameter(seg.law, name, roots[0]))  # type: ignore[arg-type]
         seg.stroke = stroke
         self._check_stroke(seg, stroke)
         seg.curve = curve

@@ -356,3 +356,26 @@ def test_named_curve_by_makino_number() -> None:
     """The catalog answers to Makino's classification numbers (table 2)."""
     assert camcore.named_curve("27") is camcore.named_curve("mcv50")
     assert camcore.named_curve("26") is camcore.named_curve("ms")
+
+
+def test_cutting_feed_ends_are_the_built_curves_own_ends() -> None:
+    """A motion program solves curve 2's T4 from these closed-form ends instead of building a curve per trial
+    (camcore.motion.resolve): they must be the curve's own N′(0) and N″(1), bit for bit, wherever its pieces are
+    all longer than MIN_SECTION; within it of T4 = 0 or 1 a piece is merged into its neighbour and the ends move
+    (by up to ~1e-9 just inside: the solver builds the curve there)."""
+    import numpy as np
+
+    from camcore.curves.makino import cutting_feed, cutting_feed_ends
+    from camcore.motion.laws import normalised_ends
+
+    from camcore.curves.universal import MIN_SECTION
+
+    near_ends = [0.5 ** k for k in range(1, 29)] + [1.0 - 0.5 ** k for k in range(1, 29)]  # down to 3.7e-9
+    for t4 in np.linspace(0.0, 0.999, 2000)[1:].tolist() + np.linspace(0.99, 1.0 - 1e-8, 2000).tolist() + near_ends:
+        assert min(t4, 1.0 - t4) >= MIN_SECTION
+        start, end = normalised_ends(cutting_feed(t4))
+        v0, amm = cutting_feed_ends(t4)
+        assert (start[1], end[2]) == (v0, -amm), t4
+    # inside MIN_SECTION of 0 the constant-velocity piece is merged away: the ends are not the closed form's
+    start, _ = normalised_ends(cutting_feed(0.5 * MIN_SECTION))
+    assert start[1] != cutting_feed_ends(0.5 * MIN_SECTION)[0]
