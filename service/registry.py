@@ -7,7 +7,7 @@ tuple; a domain's new operation is one declaration in its own module, listed her
 from __future__ import annotations
 
 from service import health
-from service.cams import barrel, parallel, roller_gear
+from service.cams import barrel, barrel_toolpath, parallel, roller_gear
 from service.curves import operations as curves
 from service.curves import sweep as characteristics_sweep
 from service.curves import vibration as curve_vibration
@@ -27,7 +27,7 @@ OPERATIONS: tuple[Operation, ...] = (
     *indexers.OPERATIONS, *sizing_sweep.OPERATIONS, *indexer_vibration.OPERATIONS, *indexer_design.OPERATIONS,
     *motions.OPERATIONS,
     *profiles.OPERATIONS, *toolpath.OPERATIONS, *dynamics.OPERATIONS,
-    *barrel.OPERATIONS, *parallel.OPERATIONS, *roller_gear.OPERATIONS,
+    *barrel.OPERATIONS, *barrel_toolpath.OPERATIONS, *parallel.OPERATIONS, *roller_gear.OPERATIONS,
     *machines.OPERATIONS,
 )
 

@@ -50,8 +50,9 @@ def _work(ctx: Context, body: BarrelCamRequest, fmt: Format) -> WorkEstimate:
     return barrel_work(ctx, body, body.samples, body.length_samples, fmt.name)
 
 
-def barrel_work(ctx: Context, body: BarrelCamRequest, samples: int, length_samples: int, answer: str) -> WorkEstimate:
-    """The curves built, the checks, ``samples`` × ``length_samples`` points and their encoding as ``answer``."""
+def barrel_build_work(ctx: Context, body: BarrelCamRequest) -> tuple[list[LawCost | None], Location, WorkEstimate]:
+    """Each segment's law cost, the request field of the segments, and the work of building the
+    cam's curves (a motion program resolved)."""
     costs: list[LawCost | None] = []
     built = WorkEstimate()
     field: Location
@@ -73,6 +74,12 @@ def barrel_work(ctx: Context, body: BarrelCamRequest, samples: int, length_sampl
             if ctx.curves.key(law) not in seen:
                 seen.add(ctx.curves.key(law))
                 built += curve_work(cost, ("segments", i, "curve"))
+    return costs, field, built
+
+
+def barrel_work(ctx: Context, body: BarrelCamRequest, samples: int, length_samples: int, answer: str) -> WorkEstimate:
+    """The curves built, the checks, ``samples`` × ``length_samples`` points and their encoding as ``answer``."""
+    costs, field, built = barrel_build_work(ctx, body)
     checks = checks_work(costs, field).seconds * BARREL_CHECKS_FACTOR
     n, points = samples, samples * length_samples
     csv_answer = answer == "csv"
