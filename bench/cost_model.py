@@ -138,12 +138,15 @@ CASES = [
          lambda n: {"motion": {"segments": [{"span_deg": 180, "to": 10, "curve": MS}, {"span_deg": 180, "to": 0}]},
                     "samples": n}, "samples", 400_000),
     # cams: the barrel's and the roller-gear's grids of samples × 5 and × 41 points; the parallel cam's
-    # size is its samples less 15 (it takes 16 to 721); the schema's largest samples are the edge there
+    # size is its samples less 15 (it takes 16 to 3601); the schema's largest samples are the edge there
     # (the next size up is a 422)
     Case("barrel cam, JSON", "POST", "/v1/cams/barrel", lambda n: {**BARREL_EXAMPLE, "samples": n}, "samples",
          400_000),
     Case("parallel cam, JSON", "POST", "/v1/cams/parallel", lambda n: {**PARALLEL_EXAMPLE, "samples": 15 + n},
-         "samples over 15", 706),
+         "samples over 15", 3586),
+    Case("parallel cam, 8 stops × 3 plates, JSON", "POST", "/v1/cams/parallel",
+         lambda n: {**PARALLEL_EXAMPLE, "stops": 8, "roller_radius_mm": 10, "samples": 15 + n}, "samples over 15",
+         3586),
     Case("roller-gear cam, JSON", "POST", "/v1/cams/roller-gear",
          lambda n: {**ROLLER_GEAR_EXAMPLE, "samples": n, "length_samples": 41}, "samples", 3601),
     Case("roller-gear rib, STL", "POST", "/v1/cams/roller-gear.stl",

@@ -14,10 +14,25 @@ BARREL_FLANK_POINT_S = 1.5 * 1e-7
 BARREL_COLUMNS = 10
 BARREL_FLANK_VALUES = 6
 
-#: one plate × roller × sampled cam angle of a parallel cam: its path's 8 points, the bands'
-#: union, the contour's vertices put on their rollers and the contacts; measured 0.084-0.14 ms
-#: (4 or 8 rollers, 2 or 3 plates, 121-361 samples); ×1.5
-PLATE_ROLLER_SAMPLE_S = 1.5 * 0.15e-3
+#: a parallel cam's plate, its exact contour traced (camcore.cams.parallel.trace): a fixed part
+#: (its crossings, the points within the chord tolerance), one plate × traced cam angle (the walk's
+#: cover tests of the points it passes: about 1.3 a cam angle, each against the roller centres
+#: near it) and one plate × roller × traced cam angle (both envelopes, the cells of roller centres,
+#: the contacts' test). Least squares over the largest of 3 runs (thread time) of 150 cams, 4-36
+#: stops, 4-72 rollers per plate, 2 or 3 plates, 16-2881 samples (traced at ≥ 720): 0.020 s,
+#: 5.3 µs and 0.59 µs; kept at 0.025 s, 8 µs and 0.7 µs, ×1.5, the estimate stays above every run
+#: (at most 0.81 of it, where a trace is done again finer). 8 stops × 3 plates at 1441 samples:
+#: 0.09 s measured, 0.20 s estimated; at 3601: 0.19 s and 0.33 s
+PARALLEL_PLATE_S = 1.5 * 0.025
+PARALLEL_PLATE_SAMPLE_S = 1.5 * 8e-6
+PLATE_ROLLER_SAMPLE_S = 1.5 * 0.7e-6
+#: a plate's contour points per traced cam angle and contacts per answered cam angle, at most
+#: seen in those runs (2.9 points where a 72-roller layer's notches need more, 1.6 contacts);
+#: numbers of a contour point (x, y, roller, cam angle, pressure angle, radius) and of a contact
+PARALLEL_POINTS_PER_SAMPLE = 3
+PARALLEL_CONTACTS_PER_SAMPLE = 2
+PARALLEL_POINT_VALUES = 6
+PARALLEL_CONTACT_VALUES = 4
 
 #: a roller-gear cam's largest pressure angle refined (both flanks, two radii together) and the
 #: rest of a 2 × 2 grid: measured 2.3 ms (3.8 ms when the radii were refined one after the

@@ -9,23 +9,51 @@ from typing import Any
 
 import numpy as np
 
-from camcore.cams.parallel import ParallelResult, make_parallel_cam, sample_parallel
+from camcore.cams.parallel import ParallelResult, make_parallel_cam, sample_parallel, trace_factor
 from camcore.results import as_dict
-from camcore.work import PLATE_ROLLER_SAMPLE_S, WorkEstimate, per_item_work
+from camcore.work import (
+    PARALLEL_CONTACT_VALUES,
+    PARALLEL_CONTACTS_PER_SAMPLE,
+    PARALLEL_PLATE_S,
+    PARALLEL_PLATE_SAMPLE_S,
+    PARALLEL_POINT_VALUES,
+    PARALLEL_POINTS_PER_SAMPLE,
+    PLATE_ROLLER_SAMPLE_S,
+    WorkEstimate,
+    WorkTerm,
+    encode_cost,
+    per_item_work,
+)
 from service.cams.parallel_specs import PARALLEL_EXAMPLES, ParallelCamAnswer, ParallelCamRequest
 from service.context import Context
 from service.operations import JSON, Document, Format, Operation, Table, csv
 
 #: columns whose NaN means "no such contact" (null in JSON, an empty CSV cell)
 NULLABLE = ("drive_pressure_angle_deg", "hold_pressure_angle_deg")
+#: the columns over the turn (over_the_turn)
+TURN_COLUMNS = 6
+
+
+def plates_work(ctx: Context, body: ParallelCamRequest) -> WorkEstimate:
+    """The curve built and the plates traced (at ``trace_factor`` times the samples, at least 720
+    cam angles a turn)."""
+    m = body.rollers_per_plate or body.stops
+    traced = body.samples * trace_factor(body.samples)
+    return ctx.curves.work(body.curve.core(), ("curve",)) + WorkEstimate((
+        WorkTerm(("plates",), f"tracing {body.plates} plates", body.plates * PARALLEL_PLATE_S),
+        WorkTerm(("samples",), f"walking {body.plates} plates × {traced} traced cam angles",
+                 body.plates * traced * PARALLEL_PLATE_SAMPLE_S))) + per_item_work(
+        body.plates * m * traced, PLATE_ROLLER_SAMPLE_S, ("samples",),
+        f"{body.plates} plates × {m} rollers × {traced} traced cam angles")
 
 
 def _work(ctx: Context, body: ParallelCamRequest, fmt: Format) -> WorkEstimate:
-    """The curve built and the plates drawn."""
-    m = body.rollers_per_plate or body.stops
-    items = body.plates * m * body.samples
-    return ctx.curves.work(body.curve.core(), ("curve",)) + per_item_work(
-        items, PLATE_ROLLER_SAMPLE_S, ("samples",), f"{body.plates} plates × {m} rollers × {body.samples} cam angles")
+    """The plates traced and the answer encoded (the contours' points and the contacts in JSON)."""
+    traced = body.samples * trace_factor(body.samples)
+    values = body.plates * (PARALLEL_POINT_VALUES * PARALLEL_POINTS_PER_SAMPLE * traced
+                            + PARALLEL_CONTACT_VALUES * PARALLEL_CONTACTS_PER_SAMPLE * body.samples)
+    encoding = encode_cost(TURN_COLUMNS * body.samples + (values if fmt.name == "json" else 0), fmt.name == "csv")
+    return plates_work(ctx, body) + WorkEstimate((WorkTerm(("samples",), "encoding the answer", encoding),))
 
 
 def parallel(ctx: Context, body: ParallelCamRequest) -> ParallelResult:

@@ -13,8 +13,8 @@ from service.models import answer_model
 from service.profiles.specs import PositiveLength
 from service.specs import JSON_INTEGER, DefaultsInDescriptions, FieldRuleError, Spec, examples
 
-#: sampled cam angles per turn, at most: the plates' paths are 8 points per sample and roller
-MAX_PARALLEL_SAMPLES = 721
+#: sampled cam angles per turn, at most: 0.1° (the cost model refuses the largest turrets sooner)
+MAX_PARALLEL_SAMPLES = 3601
 
 #: four stops, three plates of four rollers, index over 120° (MS) — conjugate, pressure angle ≈ 54°
 PARALLEL_EXAMPLE: dict[str, object] = {
@@ -50,8 +50,8 @@ class ParallelCamRequest(Spec):
     curve: CurveSpec = Field(default_factory=lambda: NamedCurveSpec(name="MS"),
                              description="the index law, as the indexers take it")
     samples: Annotated[int, Field(ge=16, le=MAX_PARALLEL_SAMPLES), JSON_INTEGER] = Field(
-        181, description="cam angles evenly over the turn (0 ≤ θ < 360°) at which contacts are found; the plates' "
-                         "roller paths are drawn with 8 points per sample")
+        181, description="cam angles evenly over the turn (0 ≤ θ < 360°) at which contacts are found and the plates' "
+                         "contours have a point (they are traced at no fewer than 720 a turn)")
 
     @model_validator(mode="after")
     def _check(self) -> ParallelCamRequest:
@@ -77,9 +77,10 @@ ContactsAnswer = answer_model(Contacts, "ContactsAnswer")
 
 
 class PlateAnswer(DefaultsInDescriptions):
-    """One plate (camcore.cams.parallel.Plate): its contour in the cam's frame, closed, by polar angle; at each
-    vertex the roller that touches it there, when, that contact's pressure angle and the contour's radius of
-    curvature; every contact over the sampled turn; the plate's checks."""
+    """One plate (camcore.cams.parallel.Plate): its exact contour in the cam's frame, closed (the first point not
+    repeated), counter-clockwise round the cam axis, within 1e-4·Rr of it between the points; at each point the
+    roller that touches it there, when, that contact's pressure angle and the contour's radius of curvature; every
+    contact over the sampled turn; the plate's checks."""
 
     plate: int
     roller_start_angle_deg: list[float] = Field(description="arm angle of each roller of its layer at θ = 0 [deg]")

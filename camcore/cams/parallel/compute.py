@@ -1,33 +1,47 @@
-"""The plates of a parallel indexing cam: contours, contacts, pressure angles, checks
-(the method: :mod:`camcore.cams.parallel.geometry`)."""
+"""The plates of a parallel indexing cam: contours, contacts, pressure angles, checks.
+
+Each plate's contour is traced exactly (:mod:`.trace`: the pieces of its rollers' envelopes, the
+crossings solved) and written as points within ``CHORD_SHARE``·Rr of it (:mod:`.polyline`). A
+roller touches its plate at a sampled cam angle where one of its two envelope points is free (no
+roller at any cam angle comes nearer to it than Rr − ε, :mod:`.trace`) and lies on the contour
+(within the polyline's δ of it). The force of the plate on the roller acts along the contact
+normal (from the plate into the roller): it drives the turret forward where the normal has a
+component along the roller's velocity, and holds it back otherwise. The plates hold the turret
+(conjugacy) at a cam angle where some contact drives and some contact holds.
+
+References
+----------
+.. [1] INDEXMAN technical guide, section 5: the index law the turret follows.
+.. [2] Shinzato and Kunigami (1988): the oscillating roller follower's pitch curve and pressure
+   angle (:mod:`camcore.profile.followers`).
+"""
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-import shapely
 from numpy.typing import NDArray
 
 from ..._checks import count
 from ...errors import GeometryError
 from ...results import doc
 from .geometry import FloatArray, ParallelCam
+from .polyline import CHORD_SHARE, contour_points, distance_to_polyline
+from .trace import PlateContour, PlateSamples, TooCoarse, trace_plate
 
-#: path points per sampled cam angle: at 181 samples a path moving 150 mm/rad steps 0.65 mm, and
-#: the contour's chords between exact points cut into a roller by (step)²/(8·Rr), 4.4e-3 mm for
-#: Rr = 12 mm (tests/camcore/cams/test_parallel.py measures it)
-PATH_POINTS_PER_SAMPLE = 8
-#: a roller touches its plate where an envelope point is this close to the contour, as a share
-#: of the roller radius: above the chords' cut between exact vertices
-CONTACT_TOLERANCE = 1e-3
 #: a roller counts as at its plate (for the undercut check) within this share of its radius
 NEAR_PLATE = 0.05
-#: golden-section steps putting a vertex on its roller: a bracket of 4 path steps (≤ 1°)
-#: shrinks by 0.618^50 to 1e-12 rad
-GOLDEN_STEPS = 50
+#: the envelopes are traced at no fewer cam angles per turn than this (a whole multiple of the
+#: answer's): at 0.5° a roller moves ≲ 1.5 mm a step, a few hundredths of its radius of
+#: curvature, where each crossing's Newton start is good; coarser, a stretch of a few steps (a
+#: notch) may be stepped over
+TRACE_SAMPLES = 720
+#: where that is too coarse to follow a roller whose path all but stops (its envelope sweeps round
+#: it within a step: a 5 mm roller on a 36-stop turret, traced at 720), the trace is done again
+#: twice as fine, at most this many times
+REFINEMENTS = 2
 #: contacts listed in the checks of a cam that does not hold its turret, at most
 LISTED_ANGLES = 10
 
@@ -58,18 +72,20 @@ class PlateChecks:
 
 @dataclass(frozen=True)
 class Plate:
-    """One plate: its contour in the cam's frame (sorted by polar angle), contacts and checks."""
+    """One plate: its contour in the cam's frame (counter-clockwise round the axis), contacts and checks."""
 
     plate: int = field(metadata=doc("0 … plates − 1"))
     roller_start_angle_deg: FloatArray = field(metadata=doc("arm angle α₀ of each roller of its layer at θ = 0"))
-    x_mm: FloatArray = field(metadata=doc("contour, cam frame"))
+    x_mm: FloatArray = field(metadata=doc(
+        "contour, cam frame, counter-clockwise: exact points, within 1e-4·Rr of the exact contour between them"))
     y_mm: FloatArray = field(metadata=doc("contour, cam frame"))
     roller: NDArray[np.intp] = field(metadata=doc("the roller that touches the contour there"))
     contact_cam_angle_deg: FloatArray = field(metadata=doc("the cam angle at which it touches there"))
     pressure_angle_deg: FloatArray = field(metadata=doc("pressure angle of that contact, within ±90°"))
     radius_of_curvature_mm: FloatArray = field(metadata=doc(
         "of the contour there: positive convex, negative concave"))
-    contacts: Contacts = field(metadata=doc("every contact over the turn's sampled cam angles"))
+    contacts: Contacts = field(metadata=doc(
+        "every contact over the turn's sampled cam angles (side −1 envelope points first, by roller, by angle)"))
     checks: PlateChecks = field(metadata=doc("what limits the plate"))
 
 
@@ -103,178 +119,142 @@ class ParallelResult:
         "the smallest |pressure angle| of the contacts that hold; NaN: none"))
     plates: list[Plate] = field(metadata=doc("one per plate"))
     checks: ParallelChecks = field(metadata=doc("the cam's checks"))
+    contours: list[PlateContour] = field(default_factory=list, repr=False, metadata=doc(
+        "each plate's exact contour (its pieces), for files and fits; not part of an answer"))
 
 
-@dataclass(frozen=True)
-class _RollerStates:
-    """The follower model's contact of every roller of a plate at cam angles (rollers × angles)."""
-
-    x: FloatArray
-    y: FloatArray
-    pressure_deg: FloatArray
-    drives: NDArray[np.bool_]
-    kappa: FloatArray
-    rho: FloatArray
-
-
-def _states(cam: ParallelCam, plate: int, theta: FloatArray) -> _RollerStates:
-    """Both sides of every roller of the plate at cam angles, shape (2, rollers, angles): side 0 is the
-    follower model's contact point (the pitch curve's cam side while the roller goes round the cam
-    the way the cam's surface leaves it), side 1 the opposite point of the roller, the cam side
-    where the roller overtakes the cam's surface (near the line of centres): there the normal, the
-    sense and the curvature turn over."""
-    phi, d1, d2 = cam.turret(theta)
-    lift = [np.degrees(phi), np.degrees(d1), np.degrees(d2)]
-    rows = []
-    c, s = np.cos(theta), np.sin(theta)
+def _contacts(cam: ParallelCam, s: PlateSamples, px: FloatArray, py: FloatArray, finer: int
+              ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """Which sampled envelope points touch the plate (free and on the contour) and which are at it
+    (within NEAR_PLATE·Rr of the contour), shape (2, chains, L); only every ``finer``-th point, the
+    answer's cam angles, is asked."""
     rr = cam.roller_radius_mm
-    for alpha0 in cam.start_angles(plate):
-        k = cam.follower(float(alpha0)).kinematics(0.0, 1.0, theta, lift)
-        (x, y), (bx, by) = k.contact, k.pitch
-        # atan2(t·v̂, n·v̂): |p| < 90° where the normal (plate into roller) has a forward component
-        p = k.pressure
-        drives = np.abs(p) < math.pi / 2
-        folded = np.degrees(np.where(drives, p, p - np.sign(p) * math.pi))
-        with np.errstate(divide="ignore"):
-            rho_other = -1.0 / k.kappa_pitch - rr
-        rows.append(((c * x + s * y, c * (2 * bx - x) + s * (2 * by - y)),
-                     (-s * x + c * y, -s * (2 * bx - x) + c * (2 * by - y)),
-                     (folded, folded), (drives, ~drives), (k.kappa_pitch, -k.kappa_pitch), (k.rho_cam, rho_other)))
-    return _RollerStates(*(np.stack([np.array([row[q][side] for row in rows]) for side in (0, 1)])
-                           for q in range(6)))
+    chord = CHORD_SHARE * rr
+    radius = np.hypot(px, py)
+    ex, ey = s.env.x, s.env.y
+    r = np.hypot(ex, ey)
+    near_ring = (r >= radius.min() - NEAR_PLATE * rr) & (r <= radius.max() + NEAR_PLATE * rr)
+    near_ring[:, :, np.arange(s.length) % finer != 0] = False
+    flat = np.flatnonzero(near_ring.reshape(-1))
+    gap_flat = np.full(ex.size, np.inf)
+    gap_flat[flat] = distance_to_polyline(ex.reshape(-1)[flat], ey.reshape(-1)[flat], px, py, NEAR_PLATE * rr)
+    gap = gap_flat.reshape(ex.shape)
+    # a point of the exact contour is within δ of the polyline (and rounding of 100 mm coordinates)
+    on = gap <= chord * (1 + 1e-6) + 1e-12 * cam.center_distance_mm
+    touching = np.zeros(ex.shape, dtype=bool)
+    for side in range(2):
+        for chain in range(s.alpha0.size):
+            j = np.flatnonzero(on[side, chain])
+            if j.size:
+                touching[side, chain, j] = s.is_free(side, chain, j)
+    return touching, gap <= NEAR_PLATE * rr
 
 
-def _golden(f: Callable[[FloatArray], FloatArray], lo: FloatArray, hi: FloatArray) -> FloatArray:
-    """Minimisers of f (vectorised: one per bracket [lo, hi]) by golden-section search."""
-    r = (math.sqrt(5) - 1) / 2
-    a, b = lo.copy(), hi.copy()
-    x1, x2 = b - r * (b - a), a + r * (b - a)
-    f1, f2 = f(x1), f(x2)
-    for _ in range(GOLDEN_STEPS):
-        left = f1 <= f2  # the minimum is in [a, x2]: x2 ← x1, a new x1; else [x1, b]: x1 ← x2, a new x2
-        b = np.where(left, x2, b)
-        a = np.where(left, a, x1)
-        new = np.where(left, b - r * (b - a), a + r * (b - a))
-        f_new = f(new)
-        x1, x2 = np.where(left, new, x2), np.where(left, x1, new)
-        f1, f2 = np.where(left, f_new, f2), np.where(left, f1, f_new)
-    return 0.5 * (a + b)
-
-
-def _contour(cam: ParallelCam, plate: int, samples: int) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """The plate's contour, each vertex put on the roller that touches it: x, y [mm], roller [-], θ [rad]."""
-    path_theta = np.linspace(0.0, 2 * math.pi, PATH_POINTS_PER_SAMPLE * samples + 1)
-    alpha0 = cam.start_angles(plate)
-    px, py = cam.centres(alpha0[:, None], path_theta[None, :])
-    rr, c = cam.roller_radius_mm, cam.center_distance_mm
-    paths = [shapely.LineString(np.column_stack([px[k], py[k]])) for k in range(alpha0.size)]
-    swept = shapely.unary_union([path.buffer(rr, quad_segs=16) for path in paths])
-    free = shapely.Point(0.0, 0.0).buffer(c, quad_segs=256).difference(swept)
-    holding = [g for g in getattr(free, "geoms", [free]) if g.contains(shapely.Point(0.0, 0.0))]
-    if not holding:
-        raise GeometryError(f"The rollers of plate {plate} sweep over the cam axis: nothing is left of the plate.")
-    ring = np.asarray(holding[0].exterior.coords)[:-1]
-    if np.hypot(ring[:, 0], ring[:, 1]).max() > c * (1 - 1e-6):
+def _check_round_the_axis(cam: ParallelCam, plate: int, x: FloatArray, y: FloatArray) -> None:
+    """The contour must go once round the cam axis and stay inside the turret's axis."""
+    c = cam.center_distance_mm
+    turns = float(np.sum(np.diff(np.unwrap(np.arctan2(np.append(y, y[0]), np.append(x, x[0])))))) / (2 * math.pi)
+    if round(turns) != 1 or float(np.hypot(x, y).max()) > c * (1 - 1e-6):
         raise GeometryError(
-            f"Plate {plate} reaches the turret's axis (center_distance_mm {c!r}): its rollers leave the cam room "
-            "past the turret's shaft; fewer stops or more rollers per plate bring them round to the cam.")
-    # the nearest path point of every roller, in blocks of vertices (a few MB of distances each)
-    roller = np.empty(len(ring), dtype=np.intp)
-    guess = np.empty(len(ring))
-    block = max(1, 2**20 // px.size)
-    for lo in range(0, len(ring), block):
-        d2 = (px[None] - ring[lo:lo + block, 0, None, None]) ** 2 + (py[None] - ring[lo:lo + block, 1, None, None]) ** 2
-        flat = np.argmin(d2.reshape(d2.shape[0], -1), axis=1)
-        roller[lo:lo + block], at = np.divmod(flat, px.shape[1])
-        guess[lo:lo + block] = path_theta[at]
-    theta = np.empty(len(ring))
-    step = path_theta[1]
-    for k in np.unique(roller):
-        sel = roller == k
-        vx, vy = ring[sel, 0], ring[sel, 1]
-
-        def gap(t: FloatArray, a0: float = float(alpha0[k]), vx: FloatArray = vx, vy: FloatArray = vy) -> FloatArray:
-            bx, by = cam.centres(a0, t)
-            return (bx - vx) ** 2 + (by - vy) ** 2
-
-        theta[sel] = _golden(gap, guess[sel] - 2 * step, guess[sel] + 2 * step)
-    bx, by = cam.centres(alpha0[roller], theta)
-    dx, dy = ring[:, 0] - bx, ring[:, 1] - by
-    scale = rr / np.hypot(dx, dy)
-    # a cam angle past either end of the turn is another roller's within it: each turn moves every
-    # roller on by the m/stops rollers of one index
-    turns = np.floor(theta / (2 * math.pi)).astype(np.intp)
-    roller = np.mod(roller + turns * (cam.rollers_per_plate // cam.stops), cam.rollers_per_plate)
-    return bx + dx * scale, by + dy * scale, roller, theta - turns * 2 * math.pi
+            f"Plate {plate} reaches the turret's axis (center_distance_mm {c!r}): its rollers leave the cam room past "
+            "the turret's shaft; fewer stops or more rollers per plate bring them round to the cam.")
 
 
-def _plate(cam: ParallelCam, plate: int, samples: int, theta: FloatArray) -> Plate:
-    x, y, roller, when = _contour(cam, plate, samples)
-    rr = cam.roller_radius_mm
-    # pressure angle and curvature of each vertex: the side of its roller that lies there
-    at = _states(cam, plate, when)
-    cols = np.arange(when.size)
-    near = [np.hypot(at.x[side, roller, cols] - x, at.y[side, roller, cols] - y) for side in (0, 1)]
-    side = (near[1] < near[0]).astype(np.intp)
-    pressure = at.pressure_deg[side, roller, cols]
-    rho = at.rho[side, roller, cols]
-    # contacts over the turn: envelope points on the contour
-    states = _states(cam, plate, theta)
-    ring = shapely.LinearRing(np.column_stack([x, y]))
-    # only points within the contour's largest radius can lie on it
-    gap = np.full(states.x.shape, np.inf)
-    near_ring = np.hypot(states.x, states.y) <= np.hypot(x, y).max() + NEAR_PLATE * rr
-    gap[near_ring] = shapely.distance(shapely.points(states.x[near_ring], states.y[near_ring]), ring)
-    touching = gap <= CONTACT_TOLERANCE * rr
-    at_plate = gap <= NEAR_PLATE * rr
-    _, roller_idx, theta_idx = np.nonzero(touching)
-    contacts = Contacts(np.degrees(theta[theta_idx]), roller_idx, states.pressure_deg[touching],
-                        states.drives[touching])
-    radius = np.hypot(x, y)
-    convex = rho[rho > 0]
-    undercut = bool(np.any(at_plate & (states.kappa > 0) & (states.kappa * rr > 1)))
+def _trace(cam: ParallelCam, plate: int, samples: int, finer: int) -> tuple[PlateContour, PlateSamples, int]:
+    """The plate traced at samples × finer cam angles, or twice or four times that where a roller's
+    path all but stops and its envelope sweeps round the roller within a step."""
+    for more in range(REFINEMENTS + 1):
+        try:
+            contour, s = trace_plate(cam, plate, samples * finer * 2**more)
+            return contour, s, finer * 2**more
+        except TooCoarse:
+            if more == REFINEMENTS:
+                raise
+    raise AssertionError("unreachable")  # pragma: no cover
+
+
+def _plate(cam: ParallelCam, plate: int, samples: int, finer: int) -> tuple[Plate, PlateContour]:
+    contour, s, finer = _trace(cam, plate, samples, finer)
+    pts = contour_points(contour, s.step)
+    _check_round_the_axis(cam, plate, pts.x, pts.y)
+    touching, at_plate = _contacts(cam, s, pts.x, pts.y, finer)
+    side, chain, j = np.nonzero(touching)
+    roller = s.roller(chain, j)
+    i = (j % (samples * finer)) // finer
+    # the answer's order: side −1 first, then by roller, then by cam angle
+    order = np.lexsort((i, roller, side))
+    contacts = Contacts(np.degrees(i[order] * (2 * math.pi / samples)), roller[order].astype(np.intp),
+                        s.env.pressure_deg[side, chain, j][order], s.env.drives[side, chain, j][order])
+    radius = np.hypot(pts.x, pts.y)
+    convex = pts.rho[pts.rho > 0]
+    kappa = s.env.kappa
+    undercut = bool(np.any(at_plate & (kappa > 0) & (kappa * cam.roller_radius_mm > 1)))
     checks = PlateChecks(
         min_convex_radius_of_curvature_mm=float(convex.min()) if convex.size else None,
         undercut=undercut, min_radius_mm=float(radius.min()), max_radius_mm=float(radius.max()))
-    return Plate(plate, np.degrees(cam.start_angles(plate)), x, y, roller.astype(np.intp), np.degrees(when), pressure, rho,
-                 contacts, checks)
+    return Plate(plate, np.degrees(cam.start_angles(plate)), pts.x, pts.y, pts.roller, np.degrees(pts.cam_angle),
+                 pts.pressure_deg, pts.rho, contacts, checks), contour
+
+
+def trace_factor(samples: int) -> int:
+    """How many times finer than the answer's cam angles the envelopes are traced.
+
+    Parameters
+    ----------
+    samples : int
+        The answer's cam angles per turn [-].
+
+    Returns
+    -------
+    int
+        The factor, the least whole number making samples × factor ≥ TRACE_SAMPLES [-].
+
+    References
+    ----------
+    The measurement beside :data:`TRACE_SAMPLES`.
+    """
+    return max(1, math.ceil(TRACE_SAMPLES / samples))
 
 
 def sample_parallel(cam: ParallelCam, samples: int = 361) -> ParallelResult:
-    """The plates of a parallel indexing cam: contours, contacts and checks.
+    """The plates of a parallel indexing cam: exact contours, contacts and checks.
 
     Parameters
     ----------
     cam : ParallelCam
         The cam (:func:`camcore.cams.parallel.make_parallel_cam`).
     samples : int
-        Rays from the cam axis per contour, and cam angles over the turn (evenly, 0 ≤ θ < 360°)
-        at which contacts are found [-].
+        Cam angles evenly over the turn (0 ≤ θ < 360°) at which the rollers' envelopes are taken
+        and the contacts found; the contours' points are at those angles, at the crossings, and
+        between them where the chord tolerance needs more [-].
 
     Returns
     -------
     ParallelResult
-        Each plate's contour (the rays' crossings and the contact points on it, by polar
-        angle) [mm], its contacts and checks; the turret's angle and whether it is held both
-        ways at each sampled cam angle.
+        Each plate's contour (counter-clockwise, exact points within 1e-4·Rr of it between them)
+        [mm], its contacts and checks; the turret's angle and whether it is held both ways at
+        each sampled cam angle; the exact contours.
 
     Raises
     ------
     GeometryError
-        A plate wider than the centre distance (it would cross the turret's axis).
+        A plate wider than the centre distance (it would cross the turret's axis), rollers that
+        sweep over the cam axis, or a sampling too coarse to tell three envelopes apart.
 
     References
     ----------
     INDEXMAN technical guide, section 5 (the index law); Shinzato and Kunigami (1988) (the
-    oscillating roller follower).
+    oscillating roller follower); Farouki and Neff (1990) (offset curves).
     """
     n = count("samples", samples)
     theta = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
-    plates = [_plate(cam, p, n, theta) for p in range(cam.plates)]
+    finer = trace_factor(n)
+    made = [_plate(cam, p, n, finer) for p in range(cam.plates)]
+    plates = [m[0] for m in made]
     best = {True: np.full(n, np.inf), False: np.full(n, np.inf)}  # by sense: drives, holds
     step = 360.0 / n
     for plate in plates:
-        i = np.rint(plate.contacts.cam_angle_deg / step).astype(np.intp)
+        i = np.rint(plate.contacts.cam_angle_deg / step).astype(np.intp) % n
         for sense in (True, False):
             mine = plate.contacts.drives == sense
             np.minimum.at(best[sense], i[mine], np.abs(plate.contacts.pressure_angle_deg[mine]))
@@ -291,4 +271,4 @@ def sample_parallel(cam: ParallelCam, samples: int = 361) -> ParallelResult:
         max_pressure_angle_at_deg=float(np.degrees(theta[worst])),
         undercut=any(p.checks.undercut for p in plates), turret_axis_clearance_mm=float(clearance))
     return ParallelResult(np.degrees(theta), np.degrees(cam.turret(theta)[0]), forward, back, drive, hold, plates,
-                          checks)
+                          checks, [m[1] for m in made])

@@ -21,23 +21,21 @@ Frames and conventions
 
 The plate
 ---------
-Each plate is what its rollers leave of a disc about the cam axis of radius C: every roller
-sweeps a band in the cam's frame over a turn (its centre's path, widened by its radius), and
-the plate is the part of the disc that no band covers and that holds the cam axis (the
-boolean operations by Shapely/GEOS, the paths as polylines of 8 points per sampled cam angle).
-Each vertex of its contour is then put on the exact circle of the roller that touches it there:
-the roller and cam angle whose centre is nearest (a golden-section search over the cam angle on
-the exact index law), the vertex moved along the line from that centre to the roller's radius.
-At that roller and cam angle the follower model gives the pressure angle and the radius of
-curvature of the plate.
+Each plate is what its rollers leave of the plane about the cam axis: the part holding the axis
+that no roller covers at any cam angle. Its contour is made of stretches of the rollers'
+envelopes — each roller's pitch point (its centre, the oscillating follower's pitch curve in
+the cam's frame) offset by Rr along the exact normal of that curve, in closed form from φ, φ′
+(:mod:`.envelope`) — taken where the roller is in contact and trimmed where two rollers' pieces
+meet, their crossing solved (:mod:`.trace`). At the roller and cam angle of each contour point
+the follower model gives the pressure angle and the radius of curvature of the plate.
 
 A roller is in contact with its plate at a cam angle where one of its two envelope points (the
 follower model's contact point, or the opposite point of the roller where the roller overtakes
-the cam's surface) lies on the contour, within 0.1 % of the roller radius (the contour is a
-polyline through exact points). The force of the plate on the roller acts along the contact
-normal (from the plate into the roller): it drives the turret forward where the normal has a
-component along the roller's velocity, and holds it back otherwise. The plates hold the
-turret (conjugacy) at a cam angle where some contact drives and some contact holds.
+the cam's surface) lies on the contour (:mod:`.compute`). The force of the plate on the roller
+acts along the contact normal (from the plate into the roller): it drives the turret forward
+where the normal has a component along the roller's velocity, and holds it back otherwise. The
+plates hold the turret (conjugacy) at a cam angle where some contact drives and some contact
+holds.
 
 References
 ----------
@@ -62,8 +60,9 @@ from ...indexer import Indexer
 from ...profile.followers import Follower, RollerOscillating
 from ..turret import index_law, turret_motion
 
-#: the smallest roller and pitch radius, as a share of the centre distance (the plates are drawn
-#: with 8 path points per sample: a roller a thousandth of the cam's size is below that)
+#: the smallest roller and pitch radius, as a share of the centre distance: a roller a thousandth
+#: of the cam's size is below any plate a shop cuts, and its envelope's tolerances (shares of C,
+#: :mod:`.trace`) would approach its own size
 SMALLEST_SHARE = 1e-3
 
 

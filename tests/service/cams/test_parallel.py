@@ -76,7 +76,8 @@ async def test_csv_is_the_json_columns(client: httpx.AsyncClient) -> None:
     ({"plates": 4}, 422, "plates"),
     ({"indexing_angle_deg": 360}, 422, "indexing_angle_deg"),
     ({"samples": 8}, 422, "samples"),
-    ({"samples": 721, "stops": 36, "rollers_per_plate": 72, "roller_radius_mm": 1}, 413, "reduce"),
+    ({"samples": 3601, "stops": 36, "rollers_per_plate": 72, "roller_radius_mm": 1}, 413, "reduce"),
+    ({"samples": 3602}, 422, "samples"),
 ])
 async def test_bad_requests(client: httpx.AsyncClient, change: dict[str, Any], status: int, words: str) -> None:
     r = await client.post(PATH, json={**PARALLEL_EXAMPLE, **change})

@@ -1,0 +1,191 @@
+"""The exact envelope of a turret roller in the cam's frame: the two offsets of its pitch curve.
+
+A roller of arm angle α₀ at θ = 0 is the oscillating roller follower of
+:mod:`camcore.profile.followers` whose arm angle is α₀ + φ(τ) (φ the turret's angle,
+:meth:`ParallelCam.turret`): its pitch point c(τ), c′, c″ and the follower's kinematics
+(contact point, pressure angle, pitch-curve curvature κp) come from that model, in closed form
+from φ, φ′, φ″. τ is the roller's own cam angle, any real number: a turn later the same
+roller stands where the next m/stops rollers of its layer stood (:mod:`.geometry`), so one
+roller followed over ``stops`` turns is its layer's whole closed path (a *chain*).
+
+In the cam's frame the pitch curve is P(τ) = R(−τ)·c(τ) with P′ = R(−τ)·u1, u1 = c′ − J·c
+(J the turn by +90°). With T the unit tangent of P and N = J·T its left normal, the roller's
+circle touches its envelope at the two points
+
+    E_s(τ) = P(τ) + s·Rr·N(τ),   s = −1 (the follower model's contact point) or +1,
+
+and E_s′ = |u1|·(1 + s·Rr·κp)·T (the offset's speed; Farouki and Neff 1990), so the branch
+runs along T where 1 + s·Rr·κp > 0 and turns back (a cusp: the roller undercuts itself)
+where it is not. On side s the roller lies on the −s·N side of E_s: going along T with s = +1
+(against T with s = −1) the roller is on the right and the cam's side on the left.
+
+References
+----------
+.. [1] Shinzato and Kunigami (1988): the pitch curve and pressure angle of an oscillating
+   roller follower by kinematic inversion (:mod:`camcore.profile.followers`).
+.. [2] R. T. Farouki, C. A. Neff, "Analytic properties of plane offset curves", Computer Aided
+   Geometric Design 7 (1990) 83-99.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ...curves.base import FloatArray
+from .geometry import ParallelCam
+
+
+@dataclass(frozen=True)
+class EnvelopePoints:
+    """Both-side quantities of roller envelope points (arrays of one shape), in the cam's frame.
+
+    ``x, y`` the point [mm]; ``tx, ty`` the unit tangent T of the pitch curve as τ grows;
+    ``stretch`` = |u1|·(1 + s·Rr·κp), dE/dτ = stretch·T [mm/rad]; ``px, py`` the roller's
+    centre [mm]; ``pressure_deg`` within ±90° and ``drives`` (the plate pushes the turret on)
+    of a contact there; ``kappa`` the pitch curve's curvature on the side of the point
+    (positive where it bends towards it: convex seen from the plate) [1/mm]; ``rho`` the
+    envelope's radius of curvature, positive convex [mm].
+    """
+
+    x: FloatArray
+    y: FloatArray
+    tx: FloatArray
+    ty: FloatArray
+    stretch: FloatArray
+    px: FloatArray
+    py: FloatArray
+    pressure_deg: FloatArray
+    drives: NDArray[np.bool_]
+    kappa: FloatArray
+    rho: FloatArray
+
+
+def envelope(cam: ParallelCam, alpha0: FloatArray | float, side: FloatArray | float,
+             tau: FloatArray) -> EnvelopePoints:
+    """Envelope points of rollers (α₀, side s) at their cam angles τ, all broadcast together.
+
+    Parameters
+    ----------
+    cam : ParallelCam
+        The cam.
+    alpha0 : ndarray or float
+        Each roller's arm angle at τ = 0 [rad].
+    side : ndarray or float
+        −1 (the follower model's contact point, P − Rr·N) or +1 (P + Rr·N) [-].
+    tau : ndarray
+        The roller's cam angle, any real value [rad].
+
+    Returns
+    -------
+    EnvelopePoints
+        Points, tangents, stretch, centres, pressure angles, curvatures (module notes).
+
+    References
+    ----------
+    Shinzato and Kunigami (1988), the oscillating roller follower; Farouki and Neff (1990),
+    the offset's speed and curvature.
+    """
+    alpha0, side, tau = np.broadcast_arrays(np.asarray(alpha0, dtype=np.float64), np.asarray(side, dtype=np.float64),
+                                            np.asarray(tau, dtype=np.float64))
+    return _on_side(cam, _roller(cam, alpha0, tau), side)
+
+
+def both_sides(cam: ParallelCam, alpha0: FloatArray | float, tau: FloatArray) -> EnvelopePoints:
+    """Envelope points of rollers on both sides: arrays of shape (2, *shape), side −1 first.
+
+    Parameters
+    ----------
+    cam : ParallelCam
+        The cam.
+    alpha0 : ndarray or float
+        Each roller's arm angle at τ = 0 [rad].
+    tau : ndarray
+        The roller's cam angle, broadcast against ``alpha0`` [rad].
+
+    Returns
+    -------
+    EnvelopePoints
+        As :func:`envelope`, the roller's quantities computed once for both sides.
+
+    References
+    ----------
+    Farouki and Neff (1990): the two offsets of one curve.
+    """
+    alpha0, tau = np.broadcast_arrays(np.asarray(alpha0, dtype=np.float64), np.asarray(tau, dtype=np.float64))
+    state = _roller(cam, alpha0, tau)
+    stacked = tuple(np.stack([v, v]) for v in state)
+    side = np.broadcast_to(np.array([-1.0, 1.0]).reshape((2,) + (1,) * alpha0.ndim), (2, *alpha0.shape))
+    return _on_side(cam, stacked, side)
+
+
+def _roller(cam: ParallelCam, alpha0: FloatArray, tau: FloatArray) -> tuple[FloatArray, ...]:
+    """The side-free part: centre, unit tangent, |u1|, pressure angle and κp of the pitch curve."""
+    phi, d1, d2 = cam.turret(tau)
+    # the turret roller with α₀ = 0: its arm angle is the lift, α₀ + φ
+    lift = [np.degrees(alpha0 + phi), np.degrees(d1), np.degrees(d2)]
+    model = cam.follower(0.0)
+    cx, cy, c1x, c1y, *_ = model.pitch_point(0.0, *lift)
+    k = model.kinematics(0.0, 1.0, tau, lift)
+    # u1 = c′ − J·c (σ = +1): the pitch curve's derivative, in the fixed frame
+    u1x, u1y = c1x + cy, c1y - cx
+    speed = np.hypot(u1x, u1y)
+    cos_t, sin_t = np.cos(tau), np.sin(tau)
+    # into the cam's frame, R(−τ)
+    tx = (cos_t * u1x + sin_t * u1y) / speed
+    ty = (-sin_t * u1x + cos_t * u1y) / speed
+    px, py = cos_t * cx + sin_t * cy, -sin_t * cx + cos_t * cy
+    return px, py, tx, ty, speed, k.pressure, k.kappa_pitch
+
+
+def _on_side(cam: ParallelCam, state: tuple[FloatArray, ...], side: FloatArray) -> EnvelopePoints:
+    px, py, tx, ty, speed, p, kappa_pitch = state
+    rr = cam.roller_radius_mm
+    x, y = px - side * rr * ty, py + side * rr * tx  # P + s·Rr·J·T
+    # the follower's pressure angle is that of its contact point (s = −1); on the other side the
+    # normal is reversed, so the same angle with the sense turned over
+    drives0 = np.abs(p) < math.pi / 2
+    folded = np.degrees(np.where(drives0, p, p - np.sign(p) * math.pi))
+    drives = np.where(side < 0, drives0, ~drives0)
+    kappa = -side * kappa_pitch
+    with np.errstate(divide="ignore"):
+        rho = 1.0 / kappa - rr
+    return EnvelopePoints(x, y, tx, ty, speed * (1.0 - rr * kappa), px, py, folded, drives, kappa, rho)
+
+
+def centres(cam: ParallelCam, alpha0: FloatArray | float, tau: FloatArray
+            ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Roller centres P(τ) in the cam's frame and their first two derivatives.
+
+    Parameters
+    ----------
+    cam : ParallelCam
+        The cam.
+    alpha0 : ndarray or float
+        Each roller's arm angle at τ = 0 [rad].
+    tau : ndarray
+        The roller's cam angle [rad].
+
+    Returns
+    -------
+    tuple of ndarray
+        x, y [mm], x′, y′ [mm/rad], x″, y″ [mm/rad²].
+
+    References
+    ----------
+    camcore.profile.cam (kinematic inversion): P′ = R(−τ)·u1, P″ = R(−τ)·u2 with
+    u1 = c′ − J·c, u2 = c″ − 2J·c′ − c.
+    """
+    tau = np.asarray(tau, dtype=np.float64)
+    alpha0, tau = np.broadcast_arrays(np.asarray(alpha0, dtype=np.float64), tau)
+    phi, d1, d2 = cam.turret(tau)
+    cx, cy, c1x, c1y, c2x, c2y, *_ = cam.follower(0.0).pitch_point(
+        0.0, np.degrees(alpha0 + phi), np.degrees(d1), np.degrees(d2))
+    u1x, u1y = c1x + cy, c1y - cx
+    u2x, u2y = c2x + 2 * c1y - cx, c2y - 2 * c1x - cy
+    cos_t, sin_t = np.cos(tau), np.sin(tau)
+    return (cos_t * cx + sin_t * cy, -sin_t * cx + cos_t * cy, cos_t * u1x + sin_t * u1y,
+            -sin_t * u1x + cos_t * u1y, cos_t * u2x + sin_t * u2y, -sin_t * u2x + cos_t * u2y)
