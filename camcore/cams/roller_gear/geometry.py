@@ -217,7 +217,8 @@ def flank_state(cam: RollerGearCam, flank: Flank, cam_angle_rad: ArrayLike, posi
     cam_angle_rad : array_like
         θ, 1-D [rad].
     positions_mm : array_like
-        r, distances from the turret axis along the roller's axis, 1-D [mm].
+        r, distances from the turret axis along the roller's axis: 1-D (the same at every cam angle), or
+        2-D with one row per cam angle (a row of its own at each) [mm].
     turret : tuple of ndarray, optional
         φ, φ', φ'' at ``cam_angle_rad`` when already evaluated (:func:`camcore.cams.turret.turret_motion`)
         [rad, -, 1/rad].
@@ -234,7 +235,8 @@ def flank_state(cam: RollerGearCam, flank: Flank, cam_angle_rad: ArrayLike, posi
     derivation in the module notes.
     """
     theta = np.asarray(cam_angle_rad, dtype=np.float64).reshape(-1, 1)
-    r = np.asarray(positions_mm, dtype=np.float64).reshape(1, -1)
+    r = np.asarray(positions_mm, dtype=np.float64)
+    r = r.reshape(theta.size, -1) if r.ndim == 2 else r.reshape(1, -1)
     if turret is None:
         alpha, d1, d2 = cam.roller_angle(flank, theta)
     else:
