@@ -1,16 +1,22 @@
 """``POST /v1/cams/barrel`` (``computeBarrelCam``): a barrel cam's developed groove, both flanks in
 3-D and its checks; the columns over the cam angle as CSV (the flank grids are JSON only: they
-are not columns over the cam angle).
+are not columns over the cam angle); the cam as a solid, STEP or STL
+(:class:`camcore.export.barrel_solid.BarrelSolid`, written by the CAD kernel's process).
 """
 
 from __future__ import annotations
 
+import math
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
 from camcore.cams.barrel import BarrelCam, BarrelResult, make_barrel_cam, sample_barrel
 from camcore.curves.kinds import LawCost
+from camcore.errors import InvalidParameterError
+from camcore.export import SOLID_FORMATS
+from camcore.export.barrel_solid import BarrelSolid
 from camcore.profile import Segment
 from camcore.results import as_dict
 from camcore.work import (
@@ -26,12 +32,20 @@ from camcore.work import (
     motion_work,
     per_item_work,
 )
-from service.cams.barrel_specs import BARREL_EXAMPLES, BarrelCamAnswer, BarrelCamRequest
+from camcore.work.barrel import SOLID_POLES_PER_STATION, barrel_solid_facets, barrel_solid_stations, barrel_solid_work
+from service.cams.barrel_specs import (
+    BARREL_EXAMPLES,
+    BARREL_SOLID_EXAMPLES,
+    BarrelCamAnswer,
+    BarrelCamRequest,
+    BarrelSolidRequest,
+    BarrelSolidSpec,
+)
 from service.context import Context
 from service.curves.library import check_limit
 from service.errors import Location, within
 from service.motions.operations import program_costs, resolve
-from service.operations import JSON, Document, Format, Operation, Table, csv
+from service.operations import JSON, Document, Format, Operation, Payload, Table, csv, download
 from service.responses import check_finite
 
 #: columns whose NaN means "straight" (null in JSON, an empty CSV cell)
@@ -45,9 +59,51 @@ def _check_size(ctx: Context, body: BarrelCamRequest) -> None:
 
 
 def _work(ctx: Context, body: BarrelCamRequest, fmt: Format) -> WorkEstimate:
-    """The curves built, the checks, the samples and their encoding."""
+    """The curves built, the checks, the samples and their encoding; a solid: the curves, its
+    surfaces and the CAD kernel's work (422 first when the body has no ``solid``)."""
+    if fmt.name in SOLID_FORMATS:
+        return barrel_solid_estimate(ctx, body, _solid(body, fmt), fmt.name)
     _check_size(ctx, body)
     return barrel_work(ctx, body, body.samples, body.length_samples, fmt.name)
+
+
+def _solid(body: BarrelCamRequest, fmt: Format) -> BarrelSolidSpec:
+    if body.solid is None:
+        raise InvalidParameterError(f"format {fmt.name} is a solid: give solid {{tolerance_mm, bore_diameter_mm}}.",
+                                    field=("solid",))
+    return body.solid
+
+
+def _moves(body: BarrelCamRequest) -> list[tuple[float, float]]:
+    """Each segment's cam angle [rad] and stroke along the axis [mm] over one turn (a swing: the
+    arm's arc; a motion program's move: the pitch radius, its stroke may be solved)."""
+    if body.motion is not None:  # a period of 360°/k repeats k times a turn
+        repeats = max(1, round(360.0 / body.motion.period_deg))
+        return [(math.radians(s.span_deg), 0.0 if s.type == "dwell" else body.pitch_radius_mm)
+                for s in body.motion.segments] * repeats
+    arm = body.arm_length_mm or 0.0
+    return [(math.radians(s.angle_deg), s.lift_mm if s.lift_mm is not None else arm * math.radians(s.swing_deg or 0.0))
+            for s in body.segments or ()]
+
+
+def barrel_solid_estimate(ctx: Context, body: BarrelCamRequest, solid: BarrelSolidSpec, answer: str) -> WorkEstimate:
+    """The curves built, the solid's surfaces and the kernel's solid and file (an STL: at half
+    the tolerance, and its facets)."""
+    _, field, built = barrel_build_work(ctx, body)
+    tolerance = solid.tolerance_mm / (2 if answer == "stl" else 1)
+    moves = _moves(body)
+    length = body.roller_length_mm or body.roller_radius_mm
+    outer = body.pitch_radius_mm + 0.5 * length
+    poles = SOLID_POLES_PER_STATION * barrel_solid_stations(moves, outer, tolerance)
+    facets = 0 if answer != "stl" else barrel_solid_facets(
+        body.pitch_radius_mm, body.roller_radius_mm, body.groove_depth_mm or length, [s for _, s in moves], tolerance)
+    return built + barrel_solid_work(len(moves), poles, facets, field, ("solid", "tolerance_mm"))
+
+
+def _warmup(ctx: Context, fmt: Format) -> None:
+    # the CAD kernel's process starts on the first solid after it was retired, outside the budget (as computeProfile's)
+    if fmt.name in SOLID_FORMATS:
+        ctx.cad.warm()
 
 
 def barrel_build_work(ctx: Context, body: BarrelCamRequest) -> tuple[list[LawCost | None], Location, WorkEstimate]:
@@ -125,8 +181,14 @@ def over_the_turn(r: BarrelResult, body: BarrelCamRequest) -> dict[str, Any]:
             "pitch_radius_of_curvature_mm": r.pitch_radius_of_curvature_mm}
 
 
-def _compute(ctx: Context, body: BarrelCamRequest, fmt: Format) -> Document | Table:
-    """JSON: the columns, the flanks (grids) and the checks; CSV: the columns with both flanks' radii."""
+def _compute(ctx: Context, body: BarrelCamRequest, fmt: Format) -> Document | Table | Payload:
+    """JSON: the columns, the flanks (grids) and the checks; CSV: the columns with both flanks' radii;
+    STEP, STL: the solid, from the CAD kernel's process."""
+    if fmt.name in SOLID_FORMATS:
+        solid = _solid(body, fmt)
+        item = BarrelSolid(barrel_cam(ctx, body), solid.tolerance_mm, solid.end_margin_mm, solid.bore_diameter_mm,
+                           max_triangles=ctx.settings.max_stl_triangles)
+        return Payload(ctx.cad.write(fmt.name, item))
     r = barrel(ctx, body)
     if fmt.name == "csv":
         return Table({**over_the_turn(r, body), "upper_radius_of_curvature_mm": r.upper.radius_of_curvature_mm,
@@ -141,11 +203,17 @@ def _compute(ctx: Context, body: BarrelCamRequest, fmt: Format) -> Document | Ta
                     allow_null=UNBOUNDED_COLUMNS)
 
 
+#: the solid downloads: camcore's registry of solid formats, each file named for a barrel cam
+SOLIDS = tuple(replace(download(fmt), file_name=f"barrel_cam.{fmt.name}") for fmt in SOLID_FORMATS.values())
+
 OPERATIONS = (
     Operation("computeBarrelCam", "/v1/cams/barrel", "cams", "Barrel cam",
               "A barrel cam: the developed groove, pressure angles across the roller, the flanks' radii of curvature, "
               "both flanks in 3-D, and the checks (largest pressure angle, smallest radii, undercut, groove "
-              "dimensions); CSV: the columns over the cam angle (an empty radius cell: a straight stretch).",
-              BarrelCamRequest, _compute, estimate=_work, answer=BarrelCamAnswer,
-              formats=(JSON, csv("barrel-cam.csv", "the columns over the cam angle as CSV")), examples=BARREL_EXAMPLES),
+              "dimensions); CSV: the columns over the cam angle (an empty radius cell: a straight stretch); the cam "
+              "as a solid (STEP, STL: give `solid` in the body).",
+              BarrelCamRequest, _compute, estimate=_work, warmup=_warmup, answer=BarrelCamAnswer,
+              formats=(JSON, csv("barrel-cam.csv", "the columns over the cam angle as CSV"), *SOLIDS),
+              examples=BARREL_EXAMPLES, format_requests={fmt.name: BarrelSolidRequest for fmt in SOLIDS},
+              format_examples={fmt.name: BARREL_SOLID_EXAMPLES for fmt in SOLIDS}),
 )

@@ -14,6 +14,7 @@ from service.models import answer_model
 from service.motions.specs import FEED_CYCLE, MotionSpec
 from service.profiles.specs import PositiveLength, SegmentSpec
 from service.specs import (
+    BIG,
     JSON_INTEGER,
     DefaultsInDescriptions,
     FieldRuleError,
@@ -54,6 +55,39 @@ TRANSLATING = one_of_values("follower", "translating", default="translating")
 CONICAL = one_of_values("roller", "conical", default="cylindrical")
 
 
+#: the cross-field rules of a barrel cam request, as JSON Schema (the validator gives their sentences)
+BARREL_RULES = [
+    rule("give the barrel cam's lift as segments or as a motion program", exactly_one("segments", "motion")),
+    rule("an oscillating barrel-cam follower needs arm_length_mm", {"if": OSCILLATING,
+                                                                   "then": given("arm_length_mm")}),
+    rule("a conical roller rolls on a translating follower only (an oscillating arm moves its apex off "
+         "the cam axis)", {"not": all_of(OSCILLATING, CONICAL)}),
+    rule("an oscillating barrel-cam follower's motion program is in deg (of swing)",
+         {"if": OSCILLATING, "then": {"properties": {"motion": {
+             "required": ["unit"], "properties": {"unit": {"const": "deg"}}}}}}),
+    rule("a translating barrel-cam follower's motion program is in mm",
+         {"if": TRANSLATING, "then": {"properties": {"motion": {"properties": {"unit": {"const": "mm"}}}}}}),
+    rule("an oscillating barrel-cam follower's lift is swing_deg, not lift_mm",
+         {"if": OSCILLATING,
+          "then": {"properties": {"segments": {"items": {"properties": {"lift_mm": {"maximum": 0}}}}}}}),
+    rule("a translating barrel-cam follower's lift is lift_mm, not swing_deg",
+         {"if": TRANSLATING, "then": {"properties": {"segments": {"items": absent("swing_deg")}}}})]
+
+
+class BarrelSolidSpec(Spec):
+    """The barrel cam as a solid (``?format=step`` or ``stl``): a cylinder of the cam's outer radius
+    with the groove cut, the cam axis along z."""
+
+    model_config = examples({"tolerance_mm": 0.01, "bore_diameter_mm": 20})
+    tolerance_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-4, le=10)] = Field(
+        0.01, description="largest deviation of the solid's surfaces from the exact ones [mm] (an STL: half for the "
+                          "surfaces, half for the facets)")
+    end_margin_mm: PositiveLength | None = Field(
+        None, description="the cylinder's length beyond the groove at each end [mm]; omitted: the roller's radius")
+    bore_diameter_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, le=BIG)] = Field(
+        0.0, description="bore about the cam axis, smaller than the groove's bottom diameter [mm]; 0: none")
+
+
 class BarrelCamRequest(Spec):
     """A barrel cam: pitch cylinder, roller, follower and lift (segments or a motion program).
 
@@ -63,23 +97,7 @@ class BarrelCamRequest(Spec):
     the outer radius. Segment angles add to 360°.
     """
 
-    model_config = examples(
-        BARREL_EXAMPLE, OSCILLATING_BARREL_EXAMPLE, CONICAL_BARREL_EXAMPLE,
-        rules=[rule("give the barrel cam's lift as segments or as a motion program", exactly_one("segments", "motion")),
-               rule("an oscillating barrel-cam follower needs arm_length_mm", {"if": OSCILLATING,
-                                                                              "then": given("arm_length_mm")}),
-               rule("a conical roller rolls on a translating follower only (an oscillating arm moves its apex off "
-                    "the cam axis)", {"not": all_of(OSCILLATING, CONICAL)}),
-               rule("an oscillating barrel-cam follower's motion program is in deg (of swing)",
-                    {"if": OSCILLATING, "then": {"properties": {"motion": {
-                        "required": ["unit"], "properties": {"unit": {"const": "deg"}}}}}}),
-               rule("a translating barrel-cam follower's motion program is in mm",
-                    {"if": TRANSLATING, "then": {"properties": {"motion": {"properties": {"unit": {"const": "mm"}}}}}}),
-               rule("an oscillating barrel-cam follower's lift is swing_deg, not lift_mm",
-                    {"if": OSCILLATING,
-                     "then": {"properties": {"segments": {"items": {"properties": {"lift_mm": {"maximum": 0}}}}}}}),
-               rule("a translating barrel-cam follower's lift is lift_mm, not swing_deg",
-                    {"if": TRANSLATING, "then": {"properties": {"segments": {"items": absent("swing_deg")}}}})])
+    model_config = examples(BARREL_EXAMPLE, OSCILLATING_BARREL_EXAMPLE, CONICAL_BARREL_EXAMPLE, rules=BARREL_RULES)
     pitch_radius_mm: PositiveLength = Field(description="R: the developed groove is drawn on this cylinder [mm]")
     roller_radius_mm: PositiveLength = Field(description="the roller's radius (a cone's at the pitch radius) [mm]")
     roller: Literal["cylindrical", "conical"] = Field(
@@ -106,6 +124,9 @@ class BarrelCamRequest(Spec):
         361, description="cam angles evenly over 0–360°, both ends included")
     length_samples: Annotated[int, Field(ge=2, le=MAX_LENGTH_SAMPLES), JSON_INTEGER] = Field(
         5, description="flank points per cam angle, evenly along the roller from its inner to its outer end")
+    solid: BarrelSolidSpec | None = Field(
+        None, description="the solid of ?format=step or stl (needed there; unused otherwise, and in a toolpath's or "
+                          "a machine's cam); the solid is the whole turn whatever the samples")
 
     @model_validator(mode="after")
     def _check(self) -> BarrelCamRequest:
@@ -138,6 +159,10 @@ class BarrelCamRequest(Spec):
         # camcore's rules and sentences (a ValueError: 422)
         check_barrel_geometry(self.pitch_radius_mm, self.roller_radius_mm, length, self.groove_depth_mm or length,
                               self.roller, self.follower, self.arm_length_mm)
+        bottom = self.pitch_radius_mm + 0.5 * length - (self.groove_depth_mm or length)
+        if self.solid is not None and not self.solid.bore_diameter_mm < 2 * bottom:
+            raise FieldRuleError(f"the bore must be smaller than the groove's bottom diameter, {2 * bottom!r} mm",
+                                 "solid", "bore_diameter_mm")
         return self
 
 
@@ -148,6 +173,22 @@ BARREL_EXAMPLES: dict[str, Example] = {
                     "value": OSCILLATING_BARREL_EXAMPLE},
     "conical": {"summary": "conical roller driven by a motion program", "value": CONICAL_BARREL_EXAMPLE},
 }
+
+#: the example of the solid formats: 0.05 mm, an STL of ~20 000 facets within the work budget
+BARREL_SOLID_EXAMPLE: dict[str, object] = {**BARREL_EXAMPLE, "solid": {"tolerance_mm": 0.05, "bore_diameter_mm": 20}}
+
+
+class BarrelSolidRequest(BarrelCamRequest):
+    """A barrel cam request whose ``solid`` is required (the solid files)."""
+
+    # its own examples, and the rules it inherits with BarrelCamRequest's validator
+    model_config = examples(BARREL_SOLID_EXAMPLE, rules=BARREL_RULES)
+    solid: BarrelSolidSpec = Field(description="tolerance, end margins and bore of the solid")
+
+
+BARREL_SOLID_EXAMPLES: dict[str, Example] = {
+    "translating": {"summary": "the translating barrel cam as a solid with a 20 mm bore, within 0.05 mm",
+                    "value": BARREL_SOLID_EXAMPLE}}
 
 BarrelChecksAnswer = answer_model(BarrelChecks, "BarrelChecksAnswer")
 
