@@ -30,9 +30,11 @@ from typing import Any
 
 import numpy as np
 
+from ..cams.roller_gear.body import check_solid_body
 from ..cams.roller_gear.geometry import RollerGearCam
 from ..cams.roller_gear.surfaces import MAX_THETA_NODES, Patch, RibSurfaces, fit_rib_surfaces
-from ..errors import GeometryError, InvalidParameterError
+from ..errors import GeometryError
+from ..work.roller_gear import rib_solid_facets
 from .solid import load_kernel
 
 #: the part's name in a STEP file
@@ -41,8 +43,6 @@ PRODUCT_NAME = "camcore roller-gear cam"
 #: or an edge cut from a torus patch whose across polynomial keeps within 1e-10·C of its path
 #: (surfaces.TORUS_FIT), both far inside it; ten times OpenCASCADE's confusion (1e-7 mm)
 SEWING_MM = 1e-6
-#: the thinnest wall the bore may leave at the body's throat, as a share of the throat radius
-MIN_WALL_SHARE = 0.01
 
 
 @dataclass(frozen=True)
@@ -81,15 +81,10 @@ class RollerGearSolid:
 
     def surfaces(self, tolerance_mm: float | None = None) -> RibSurfaces:
         """The fitted patches (:func:`camcore.cams.roller_gear.surfaces.fit_rib_surfaces`), the bore checked."""
-        fit = fit_rib_surfaces(self.cam, self.tolerance_mm if tolerance_mm is None else tolerance_mm,
-                               self.root_clearance_mm, self.body_length_mm, self.max_theta_nodes)
-        largest = fit.throat_radius_mm * (1.0 - MIN_WALL_SHARE)
-        if not (math.isfinite(self.bore_diameter_mm) and 0.0 <= 0.5 * self.bore_diameter_mm <= largest):
-            raise InvalidParameterError(
-                f"bore_diameter_mm must be at least 0 and leave a wall at the body's throat: at most {2 * largest:.6g} mm "
-                f"(the throat's diameter, {2 * fit.throat_radius_mm:.6g} mm, less {MIN_WALL_SHARE:.0%}), got "
-                f"{self.bore_diameter_mm!r}.", field=("solid", "bore_diameter_mm"))
-        return fit
+        c, r_out, rr = self.cam.center_distance_mm, self.cam.roller_ends_mm[1], self.cam.roller_radius_mm
+        check_solid_body(c, r_out, rr, self.root_clearance_mm, self.bore_diameter_mm)
+        return fit_rib_surfaces(self.cam, self.tolerance_mm if tolerance_mm is None else tolerance_mm,
+                                self.root_clearance_mm, self.body_length_mm, self.max_theta_nodes)
 
     def shape(self, tolerance_mm: float) -> Any:
         """:func:`build_roller_gear_solid` with the flanks fitted to that tolerance."""
@@ -113,34 +108,14 @@ def roller_gear_facets_estimate(cam: RollerGearCam, deflection_mm: float) -> int
     Returns
     -------
     int
-        Σ A/(4·δ·√(R1·R2)) over the body's root, the rib's top and the flanks, times
-        :data:`FACETS_MARGIN`, plus :data:`FACETS_FLOOR` [-]. Each surface's area A and its two
-        radii of curvature from the cam's dimensions: the tori (tube radius, the ring's radius at
-        half their swing), the flanks (the roller radius, the cam's radius at the pitch radius);
-        the body's length is the dwell's rib extent plus half a roller radius.
+        :func:`camcore.work.roller_gear.rib_solid_facets` of its dimensions [-].
 
     References
     ----------
-    A chord of length a on a circle of radius R has the sagitta a²/(8R): a doubly curved surface
-    meshed to the deviation δ has facets of sides √(8·R1·δ) and √(8·R2·δ), two per such square.
+    camcore.work.roller_gear (the formula and its measurements).
     """
-    c, rr, rp = cam.center_distance_mm, cam.roller_radius_mm, cam.roller_pitch_radius_mm
-    r_in, r_out = cam.roller_ends_mm
-    h = cam.index_rad
-    half = r_out * math.sin(h) - rr * math.cos(h) + 0.5 * rr
-    total = (r_out - r_in) * 4 * math.pi * (c - rp) / (4 * math.sqrt(rr * (c - rp)))  # the flanks
-    for radius in (math.hypot(r_out, rr), math.hypot(r_in, rr)):
-        chi = math.asin(min(1.0, half / radius))
-        area = 2 * math.pi * radius * (2 * c * chi - 2 * radius * math.sin(chi))
-        total += area / (4 * math.sqrt(radius * (c - radius * math.cos(0.5 * chi))))
-    return math.ceil(FACETS_MARGIN * total / deflection_mm) + FACETS_FLOOR
-
-
-#: the facets counted over the formula's, at most: 1.22-1.44 on five cams (5-16 stops, 0.5 ≥ δ ≥
-#: 5e-4 mm), with a quarter more kept; and the facets a coarse mesh has whatever δ (1 804 at δ = 0.5
-#: on the example, where the formula gives 1 650)
-FACETS_MARGIN = 1.8
-FACETS_FLOOR = 2000
+    return rib_solid_facets(cam.stops, cam.center_distance_mm, cam.roller_pitch_radius_mm, cam.roller_radius_mm,
+                            cam.roller_length_mm, deflection_mm)
 
 
 # ----------------------------------------------------------------------------- the kernel's shapes

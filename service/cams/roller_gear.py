@@ -1,14 +1,22 @@
 """``POST /v1/cams/roller-gear`` (``computeRollerGearCam``): a roller-gear cam's rib — both flanks as
-point grids, the pressure angles, the checks; the columns over the turn as CSV and the rib as a
-closed binary STL.
+point grids, the pressure angles, the checks; the columns over the turn as CSV, the rib as a
+closed binary STL, and the whole cam (the rib on its globoidal body) as a solid from the CAD kernel:
+STEP, or STL of the kernel's mesh (``solid-stl``).
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-from camcore.cams.roller_gear import RollerGearResult, make_roller_gear_cam, rib_triangles, sample_roller_gear
+from camcore.cams.roller_gear import (
+    RollerGearCam,
+    RollerGearResult,
+    make_roller_gear_cam,
+    rib_triangles,
+    sample_roller_gear,
+)
 from camcore.export import mesh_stl
+from camcore.export.roller_gear_solid import RollerGearSolid
 from camcore.results import as_dict
 from camcore.work import (
     RIB_COLUMNS,
@@ -17,11 +25,26 @@ from camcore.work import (
     RIB_FLANK_VALUES,
     RIB_PRESSURE_SEARCH_S,
     WorkEstimate,
+    WorkTerm,
     encode_cost,
     per_item_work,
     rib_facets,
 )
-from service.cams.roller_gear_specs import ROLLER_GEAR_EXAMPLES, RollerGearCamAnswer, RollerGearCamRequest
+from camcore.work.roller_gear import (
+    RIB_SOLID_BASE_S,
+    RIB_SOLID_NODE_S,
+    RIB_STL_FACET_S,
+    rib_nodes_estimate,
+    rib_solid_facets,
+)
+from service.cams.roller_gear_specs import (
+    ROLLER_GEAR_EXAMPLES,
+    SOLID_EXAMPLES,
+    SOLID_STL_EXAMPLES,
+    RollerGearCamAnswer,
+    RollerGearCamRequest,
+    RollerGearSolidSpec,
+)
 from service.context import Context
 from service.curves.library import check_limit
 from service.operations import JSON, Document, Format, Operation, Payload, Table, csv
@@ -29,10 +52,51 @@ from service.responses import check_finite
 
 STL = Format("stl", "model/stl", "the rib as a closed binary STL in mm", file_name="roller-gear-rib.stl",
                  attachment=True)
+STEP = Format("step", "model/step", "the cam as a STEP AP214 solid in mm (OpenCASCADE): the rib on its globoidal body, "
+              "its flanks B-spline surfaces within solid.tolerance_mm of the exact flanks", file_name="roller-gear-cam.step",
+              attachment=True)
+SOLID_STL = Format("solid-stl", "model/stl", "the same solid as a binary STL in mm (OpenCASCADE's mesh): every facet "
+                   "within solid.tolerance_mm of the exact flanks", file_name="roller-gear-cam.stl", attachment=True)
+#: each solid format and the kernel's writer of it (camcore.export.SOLID_FORMATS)
+SOLIDS = {STEP.name: "step", SOLID_STL.name: "stl"}
+#: the patches may take this many times the estimate's cam angles before the solid is refused (413):
+#: the estimate bounded every cam measured by a fifth at least (camcore.work.roller_gear)
+NODES_SLACK = 2
+
+
+def _solid(body: RollerGearCamRequest) -> RollerGearSolidSpec:
+    return body.solid if body.solid is not None else RollerGearSolidSpec()
+
+
+def _fit_tolerance(body: RollerGearCamRequest, fmt: Format) -> float:
+    """The patches' tolerance: an STL's halves it (the other half for its facets)."""
+    return _solid(body).tolerance_mm / (2 if fmt is SOLID_STL else 1)
+
+
+def _solid_work(ctx: Context, body: RollerGearCamRequest, fmt: Format) -> WorkEstimate:
+    """The curve, the patches fitted and sewn by the kernel, the file; an STL's facets (413 over the limit)."""
+    nodes = rib_nodes_estimate(body.center_distance_mm, _fit_tolerance(body, fmt))
+    work = ctx.curves.work(body.curve.core(), ("curve",)) + WorkEstimate((WorkTerm(
+        ("solid", "tolerance_mm"), f"the cam's faces at up to {nodes} cam angles, sewn into a solid and written",
+        RIB_SOLID_BASE_S + nodes * RIB_SOLID_NODE_S),))
+    if fmt is SOLID_STL:
+        facets = rib_solid_facets(body.stops, body.center_distance_mm, body.roller_pitch_radius_mm,
+                                  body.roller_radius_mm, body.roller_length_mm, 0.5 * _solid(body).tolerance_mm)
+        check_limit("STL facets", facets, ctx.settings.max_stl_triangles, ("solid", "tolerance_mm"))
+        work += per_item_work(facets, RIB_STL_FACET_S, ("solid", "tolerance_mm"), f"up to {facets} STL facets")
+    return work
+
+
+def _warmup(ctx: Context, fmt: Format) -> None:
+    # the CAD kernel's process starts outside the budget, on the first solid (service/cad_pool.py)
+    if fmt.name in SOLIDS:
+        ctx.cad.warm()
 
 
 def _work(ctx: Context, body: RollerGearCamRequest, fmt: Format) -> WorkEstimate:
-    """The curve built, the pressure search, the flank grids and their encoding or the mesh."""
+    """The curve built, the pressure search, the flank grids and their encoding or the mesh; a solid's own."""
+    if fmt.name in SOLIDS:
+        return _solid_work(ctx, body, fmt)
     points = body.samples * body.length_samples
     check_limit("roller-gear flank points (samples × length_samples)", points, ctx.settings.max_table_samples,
                 ("samples",))
@@ -48,11 +112,14 @@ def _work(ctx: Context, body: RollerGearCamRequest, fmt: Format) -> WorkEstimate
     return work + per_item_work(values, encode_cost(1, csv_answer), ("samples",), f"{values} numbers encoded")
 
 
-def roller_gear(ctx: Context, body: RollerGearCamRequest) -> RollerGearResult:
+def roller_gear_cam(ctx: Context, body: RollerGearCamRequest) -> RollerGearCam:
     geometry = body.model_dump(include={"stops", "center_distance_mm", "roller_pitch_radius_mm", "roller_radius_mm",
                                         "roller_length_mm", "indexing_angle_deg"})
-    cam = make_roller_gear_cam(**geometry, curve=ctx.curves.curve(body.curve.core()))
-    return sample_roller_gear(cam, body.samples, body.length_samples)
+    return make_roller_gear_cam(**geometry, curve=ctx.curves.curve(body.curve.core()))
+
+
+def roller_gear(ctx: Context, body: RollerGearCamRequest) -> RollerGearResult:
+    return sample_roller_gear(roller_gear_cam(ctx, body), body.samples, body.length_samples)
 
 
 def over_the_turn(r: RollerGearResult) -> dict[str, Any]:
@@ -61,7 +128,15 @@ def over_the_turn(r: RollerGearResult) -> dict[str, Any]:
 
 
 def _compute(ctx: Context, body: RollerGearCamRequest, fmt: Format) -> Document | Table | Payload:
-    """JSON: the columns over the turn, both flank grids, the checks; CSV: the columns; STL: the rib."""
+    """JSON: the columns over the turn, both flank grids, the checks; CSV: the columns; STL: the rib; a
+    solid: the cam, written by the CAD kernel's process."""
+    if fmt.name in SOLIDS:
+        spec = _solid(body)
+        item = RollerGearSolid(roller_gear_cam(ctx, body), spec.tolerance_mm, spec.bore_diameter_mm,
+                               spec.root_clearance_mm, spec.body_length_mm,
+                               NODES_SLACK * rib_nodes_estimate(body.center_distance_mm, _fit_tolerance(body, fmt)),
+                               ctx.settings.max_stl_triangles)
+        return Payload(ctx.cad.write(SOLIDS[fmt.name], item))
     r = roller_gear(ctx, body)
     if fmt is STL:
         return Payload(mesh_stl(rib_triangles(r), header=f"camcore roller-gear rib, {body.stops} stops",
@@ -80,8 +155,10 @@ OPERATIONS = (
               "A roller-gear (globoidal) cam: both flanks of its rib as point grids in the cam's frame (the envelopes "
               "of the two rollers straddling the rib), the pressure angle over the index, the turret's angle, and "
               "the checks (largest pressure angle, undercut, the rib's thickness and radii); CSV: the columns over "
-              "the turn; STL: the rib.",
-              RollerGearCamRequest, _compute, estimate=_work, answer=RollerGearCamAnswer,
-              formats=(JSON, csv("roller-gear-cam.csv", "the columns over the rib's turn as CSV"), STL),
-              examples=ROLLER_GEAR_EXAMPLES),
+              "the turn; STL: the rib; STEP (and solid-stl): the whole cam, the rib on its globoidal body, as one "
+              "solid from the CAD kernel (give `solid` for its tolerance, bore, clearance and length).",
+              RollerGearCamRequest, _compute, estimate=_work, warmup=_warmup, answer=RollerGearCamAnswer,
+              formats=(JSON, csv("roller-gear-cam.csv", "the columns over the rib's turn as CSV"), STL, STEP, SOLID_STL),
+              examples=ROLLER_GEAR_EXAMPLES,
+              format_examples={STEP.name: SOLID_EXAMPLES, SOLID_STL.name: SOLID_STL_EXAMPLES}),
 )

@@ -2,27 +2,8 @@
 that is measured: the numbers the CAD kernel builds the cam's solid from
 (:mod:`camcore.export.roller_gear_solid`).
 
-The cam
--------
-Let d(X) = √((C − ρ)² + z²) be a point's distance from the circle the turret axis's point A = (C, 0,
-0) sweeps about the cam axis (ρ its distance from the cam axis): a surface d = R is a torus about the
-cam axis, an hourglass on the cam's side of the turret. The cam is
-
-* the **body**: d ≥ R_root, |z| ≤ H (less a bore), the globoidal core. R_root = √(r_out² + Rr²) +
-  clearance: the circle the rim of the rollers' outer ends sweeps (a roller's axis point at r_out is
-  at d = r_out, the rim of its flat end at up to √(r_out² + Rr²): a core at d = r_out would cut
-  Rr²/(2·r_out) into every roller's end edge). Its throat radius is C − R_root.
-* the **rib** on it: R_top ≤ d ≤ R_root between the two flanks over the rib's turn, θ from 0 to 2π.
-  R_top is the smallest d of the flanks' line at the rollers' inner end, r = r_in, over the turn
-  (found on a grid over the index and refined): the rib's top then lies nowhere above that line,
-  so every roller meets flank over its whole working length at every cam angle. A flank point at
-  r is at d ≤ √(r² + Rr²), equal in the dwell (β = 0) and less where the contact moves off the
-  plane of the line of centres, so in the dwell the rib stands up to √(r_in² + Rr²) − R_top above
-  the rollers' inner ends (the flank there is the envelope of the roller's cylinder continued).
-  Likewise below: a flank point at r_out is at d ≤ √(r_out² + Rr²) ≤ R_root, so the flank reaches
-  the body nowhere above the rollers' outer ends. The rib's ends are its sections at θ = 0 and 2π,
-  in the plane of the line of centres (y = 0) when the law starts at rest.
-* H, half the body's length: the rib's largest |z| plus half a roller radius, unless given.
+The cam's dimensions (the tori of the rib's top and of the body, the body's length) are chosen in
+:mod:`camcore.cams.roller_gear.body`.
 
 The patches
 -----------
@@ -64,11 +45,10 @@ from functools import partial
 
 import numpy as np
 
-from ..._maxima import local_grid_max
 from ...curves.base import FloatArray
 from ...curves.jumps import acceleration_jumps
 from ...deadline import checkpoint
-from ...errors import GeometryError, InvalidParameterError, LimitExceededError
+from ...errors import GeometryError, LimitExceededError
 from ..turret import turret_motion
 from ._splines import (
     bernstein_poles,
@@ -82,6 +62,7 @@ from ._splines import (
     torus_distance,
     torus_points,
 )
+from .body import check_request, half_length
 from .geometry import FLANKS, Flank, RollerGearCam, flank_state
 
 #: the index's intervals before refinement (each piece of it at that spacing), and the dwell's
@@ -106,19 +87,10 @@ MIN_ACROSS = 4
 #: Newton's steps to a torus crossing along the roller, and the step that ends it [mm, relative to C]
 NEWTON_STEPS = 30
 NEWTON_TOLERANCE = 1e-13
-#: the index law's velocity at the start of an index, at most, for the rib's end to lie in the plane
-#: of the line of centres
-REST = 1e-9
 #: how far a piece's end nodes are moved into the piece for the index law's formulas [rad]: at a break
 #: point the law evaluates its right-hand piece, and at θh still its last (the turret would not stand
 #: in the dwell), where the acceleration may jump; the point moves by φ'·1e-13 rad, ~1e-11 mm
 INSIDE = 1e-13
-#: the cam angles over the index at which R_top is bracketed before it is refined to TOP_WIDTH [rad]:
-#: d at the rollers' inner end dips once, where β is largest, as |β| follows |φ'| (compute.py)
-TOP_GRID = 1025
-TOP_WIDTH = 1e-12
-#: the default body reaches this share of a roller radius beyond the rib at each end
-BODY_MARGIN_SHARE = 0.5
 
 Band = str  # "forward", "back" (flanks), "top", "below", "above" (the tori)
 BANDS: tuple[Band, ...] = ("forward", "back", "top", "below", "above")
@@ -291,46 +263,6 @@ def _across_test(across: FloatArray) -> FloatArray:
 
 
 # ----------------------------------------------------------------------------- the fit
-def _check_request(cam: RollerGearCam, tolerance_mm: float, root_clearance_mm: float) -> tuple[float, float]:
-    if not (math.isfinite(tolerance_mm) and tolerance_mm > 0):
-        raise InvalidParameterError(f"tolerance_mm must be positive, got {tolerance_mm!r}.", field=("solid", "tolerance_mm"))
-    if not (math.isfinite(root_clearance_mm) and root_clearance_mm >= 0):
-        raise InvalidParameterError(f"root_clearance_mm must be at least 0, got {root_clearance_mm!r}.",
-                                    field=("solid", "root_clearance_mm"))
-    _, start_speed, _ = turret_motion(cam.indexer, np.array([0.0]))
-    if abs(float(start_speed[0])) > REST:
-        raise InvalidParameterError(
-            "the solid needs an index law that starts at rest (V = 0 at its start): the rib's ends then lie in the "
-            f"plane of the line of centres; this one starts at dφ/dθ = {float(start_speed[0]):.6g}.", field=("curve",))
-    r_out = cam.roller_ends_mm[1]
-    rr, c = cam.roller_radius_mm, cam.center_distance_mm
-    top, root = _top_radius(cam), math.hypot(r_out, rr) + root_clearance_mm
-    if not root < c:
-        raise GeometryError(
-            f"The body would have no throat: its radius there, center_distance_mm − √(r_out² + roller_radius_mm²) − "
-            f"root_clearance_mm = {c - root:.6g} mm, must be positive (r_out = roller_pitch_radius_mm + "
-            "roller_length_mm/2).", field=("solid", "root_clearance_mm") if root_clearance_mm > 0 else ("center_distance_mm",))
-    return top, root
-
-
-def _top_radius(cam: RollerGearCam) -> float:
-    """R_top: the smallest d of both flanks at the rollers' inner end over the turn (module notes) [mm]."""
-    r_in, c = cam.roller_ends_mm[0], cam.center_distance_mm
-    grid = np.linspace(0.0, math.radians(cam.indexer.indexing_angle_deg), TOP_GRID)
-
-    def height(flank: Flank, theta: FloatArray) -> FloatArray:  # −d: the search finds maxima
-        return -torus_distance(c, flank_state(cam, flank, theta, [r_in]).p[:, 0])
-
-    brackets = []
-    for f in FLANKS:
-        k = int(np.argmax(height(f, grid)))
-        brackets.append((grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]))
-    lo, hi = (np.array(ends) for ends in zip(*brackets, strict=True))
-    _, best = local_grid_max(lambda x: np.stack([height(f, row) for f, row in zip(FLANKS, x, strict=True)]),
-                             lo, hi, width=TOP_WIDTH)
-    return min(-float(best.max()), math.hypot(r_in, cam.roller_radius_mm))
-
-
 def _choose_across(error: Callable[[FloatArray], float], target: float, smallest: int, what: str) -> FloatArray:
     for k in range(smallest, MAX_ACROSS + 1):
         nodes = lobatto(k)
@@ -430,7 +362,7 @@ def fit_rib_surfaces(cam: RollerGearCam, tolerance_mm: float, root_clearance_mm:
     ----------
     Piegl and Tiller (1997), ch. 2, 3, 9; de Boor (1978), ch. IV; Berrut and Trefethen (2004).
     """
-    top, root = _check_request(cam, tolerance_mm, root_clearance_mm)
+    top, root = check_request(cam, tolerance_mm, root_clearance_mm)
     rib, pieces, target = _Rib(cam, top, root), _pieces(cam), FIT_SHARE * tolerance_mm
 
     def refine(piece: _Piece, deviation: float) -> None:
@@ -448,7 +380,7 @@ def fit_rib_surfaces(cam: RollerGearCam, tolerance_mm: float, root_clearance_mm:
             refine(piece, d)
         deviation = max(deviation, d)
     extent = max(p.z_extent for p in pieces)
-    half = _half_length(cam, rib, extent, body_length_mm, tolerance_mm)
+    half = half_length(cam, root, extent, body_length_mm, tolerance_mm)
     for band in TORI:
         across[band] = _choose_across(partial(_torus_across_error, rib, pieces, half, band),
                                       TORUS_FIT * cam.center_distance_mm, 2, f"{band} patch")
@@ -483,20 +415,6 @@ def _torus_across_error(rib: _Rib, pieces: list[_Piece], half_mm: float, band: B
     fitted = _torus_rows(rib, t, flanks, dict.fromkeys(TORI, nodes), half_mm, exact_ends=False)[band][0]  # type: ignore[arg-type]
     exact = _torus_rows(rib, t, flanks, dict.fromkeys(TORI, test), half_mm, exact_ends=False)[band][0]  # type: ignore[arg-type]
     return float(np.linalg.norm(np.einsum("aj,ijx->iax", lagrange(nodes, test), fitted) - exact, axis=-1).max())
-
-
-def _half_length(cam: RollerGearCam, rib: _Rib, extent: float, body_length_mm: float | None, tolerance_mm: float
-                 ) -> float:
-    if body_length_mm is None:
-        return extent + BODY_MARGIN_SHARE * min(cam.roller_radius_mm, rib.root_mm - extent)
-    half = 0.5 * body_length_mm
-    if not (math.isfinite(half) and extent + tolerance_mm <= half < rib.root_mm - tolerance_mm):
-        raise InvalidParameterError(
-            f"body_length_mm must cover the rib, at least {2 * (extent + tolerance_mm):.6g} mm (its extent along the "
-            f"cam axis, {2 * extent:.6g} mm, and the tolerance at each end), and stay under {2 * (rib.root_mm - tolerance_mm):.6g} "
-            "mm (twice the body's torus radius, where the hourglass would close on the turret's axis), got "
-            f"{body_length_mm!r}.", field=("solid", "body_length_mm"))
-    return half
 
 
 def _check_shape(rib: _Rib, pieces: list[_Piece]) -> None:
