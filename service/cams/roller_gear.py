@@ -44,6 +44,7 @@ from service.cams.roller_gear_specs import (
     RollerGearCamAnswer,
     RollerGearCamRequest,
     RollerGearSolidSpec,
+    RollerGearSolidStlRequest,
 )
 from service.context import Context
 from service.curves.library import check_limit
@@ -160,5 +161,6 @@ OPERATIONS = (
               RollerGearCamRequest, _compute, estimate=_work, warmup=_warmup, answer=RollerGearCamAnswer,
               formats=(JSON, csv("roller-gear-cam.csv", "the columns over the rib's turn as CSV"), STL, STEP, SOLID_STL),
               examples=ROLLER_GEAR_EXAMPLES,
+              format_requests={SOLID_STL.name: RollerGearSolidStlRequest},
               format_examples={STEP.name: SOLID_EXAMPLES, SOLID_STL.name: SOLID_STL_EXAMPLES}),
 )

@@ -97,6 +97,14 @@ class RollerGearCamRequest(Spec):
         return self
 
 
+class RollerGearSolidStlRequest(RollerGearCamRequest):
+    """A roller-gear cam request whose ``solid`` is given (the solid-stl twin: an STL's cost is its
+    tolerance's choice, 115 000 facets at the default 0.01 mm for the example)."""
+
+    model_config = examples(SOLID_STL_EXAMPLE)
+    solid: RollerGearSolidSpec = Field(description="the solid's tolerance, bore, clearance and length")
+
+
 SOLID_EXAMPLES: dict[str, Example] = {
     "eight stops": {"summary": "the eight-stop cam with a 20 mm bore, its flanks within 0.01 mm", "value": SOLID_EXAMPLE}}
 SOLID_STL_EXAMPLES: dict[str, Example] = {

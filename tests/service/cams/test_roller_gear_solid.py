@@ -161,3 +161,10 @@ def test_the_estimate_bounds_the_kernel_s_work(fmt: str, body: dict[str, Any]) -
     estimate = operation.estimate(ctx, core, operation.format(fmt)).seconds
     operation.compute(ctx, core, operation.format(fmt))
     assert 0 < kernel.seconds <= estimate
+
+
+async def test_the_stl_twin_needs_solid_and_the_step_twin_does_not(client: httpx.AsyncClient) -> None:
+    r = await client.post(PATH + ".solid-stl", json=ROLLER_GEAR_EXAMPLE)
+    assert r.status_code == 422 and r.json()["errors"][0]["loc"] == ["body", "solid"], r.text
+    assert (await client.post(PATH + ".solid-stl", json=SOLID_STL_EXAMPLE)).status_code == 200
+    assert (await client.post(PATH + ".step", json=ROLLER_GEAR_EXAMPLE)).status_code == 200
