@@ -7,7 +7,7 @@ tuple; a domain's new operation is one declaration in its own module, listed her
 from __future__ import annotations
 
 from service import health
-from service.cams import barrel, barrel_toolpath, parallel, roller_gear
+from service.cams import barrel, barrel_toolpath, parallel, parallel_toolpath, roller_gear
 from service.curves import operations as curves
 from service.curves import sweep as characteristics_sweep
 from service.curves import vibration as curve_vibration
@@ -18,6 +18,7 @@ from service.indexers import vibration as indexer_vibration
 from service.machines import operations as machines
 from service.motions import operations as motions
 from service.operations import Operation
+from service.profiles import design as profile_design
 from service.profiles import dynamics, toolpath
 from service.profiles import operations as profiles
 
@@ -26,8 +27,9 @@ OPERATIONS: tuple[Operation, ...] = (
     *curves.OPERATIONS, *characteristics_sweep.OPERATIONS, *curve_vibration.OPERATIONS,
     *indexers.OPERATIONS, *sizing_sweep.OPERATIONS, *indexer_vibration.OPERATIONS, *indexer_design.OPERATIONS,
     *motions.OPERATIONS,
-    *profiles.OPERATIONS, *toolpath.OPERATIONS, *dynamics.OPERATIONS,
-    *barrel.OPERATIONS, *barrel_toolpath.OPERATIONS, *parallel.OPERATIONS, *roller_gear.OPERATIONS,
+    *profiles.OPERATIONS, *toolpath.OPERATIONS, *dynamics.OPERATIONS, *profile_design.OPERATIONS,
+    *barrel.OPERATIONS, *barrel_toolpath.OPERATIONS, *parallel.OPERATIONS, *parallel_toolpath.OPERATIONS,
+    *roller_gear.OPERATIONS,
     *machines.OPERATIONS,
 )
 

@@ -215,8 +215,21 @@ def machine(axes: list[dict[str, Any]] | None = None, **fields: Any) -> tuple[st
     return "/v1/machines", {k: v for k, v in body.items() if v is not None}
 
 
+def design(follower: dict[str, Any] = ROLLER, lift: dict[str, float] | None = None,
+           **fields: Any) -> tuple[str, dict[str, Any]]:
+    """The base radius of the cam of :func:`profile` designed for a 30° pressure angle; ``fields`` add or
+    replace (None removes)."""
+    body = {"follower": follower, "segments": segments(lift or {"lift_mm": 20}),
+            "limits": {"max_pressure_angle_deg": 30}, "free": {"base_radius_mm": [10, 200]}, **fields}
+    return "/v1/profiles/design", {k: v for k, v in body.items() if v is not None}
+
+
 #: rule → (bodies that keep it, [(a body that breaks it, words of the app's 422)]).
 #: A model rule is named by its description in the document, a keyword by its JSON pointer.
+#: a parallel cam of two plates (a toolpath's plate numbers them)
+TWO_PLATES = {"stops": 4, "plates": 2, "center_distance_mm": 100, "roller_pitch_radius_mm": 60, "roller_radius_mm": 12,
+              "indexing_angle_deg": 120, "samples": 61}
+
 RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, dict[str, Any]], str]]]] = {
     # curve specs: the tag of the CurveSpec union is required (its default serves Python callers)
     "/components/schemas/NamedCurveSpec/required/0": (
@@ -530,6 +543,10 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
         [(machine([{"name": "push", "motion": {"motion": CLOSED_MM, "inertia_kgm2": 2}}]), "a driven load in mm"),
          (machine([{"name": "swing", "motion": {"motion": {**CLOSED_MM, "unit": "deg"}, "mass_kg": 1,
                                                 "inertia_kgm2": 0.1}}]), "a driven load in mm")]),
+    "plate must be below cam.plates (plates are numbered from 0)": (
+        [("/v1/cams/parallel/toolpath", {"cam": TWO_PLATES, "plate": 1, "tool_radius_mm": 5, "tolerance_mm": 0.05})],
+        [(("/v1/cams/parallel/toolpath", {"cam": TWO_PLATES, "plate": 2, "tool_radius_mm": 5}),
+          "plate must be below cam.plates")]),
     "give exactly one of speed_rpm (N) and cycle_time_s (t0)": (
         [("/v1/indexers/design", {"stops": 6, "load": {"parts": [DISC]}, "speed_rpm": 60,
                                   "indexing_angles_deg": [120], "curves": [MS]})],
@@ -542,6 +559,23 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
                                   "indexing_angles_deg": [120], "curves": [MS]})],
         [(("/v1/indexers/design", {"stops": 6, "load": {"parts": [DISC]}, "speed_rpm": 60, "criterion": "motor"}),
           "ranking by motor needs motors")]),
+    # a plate-cam design: the fields of the follower's motion (service/profiles/design_specs.py MOTION_RULE)
+    "a follower's fields are of its motion: a translating one's load is mass_kg, spring_rate_n_mm, preload_n, "
+    "external_force_n, damping_n_s_mm, its free spring free.spring_rate_n_mm and free.preload_n, its lift in mm, "
+    "and it may free offset_mm unless it is flat-faced; an oscillating one's load is inertia_kgm2, "
+    "spring_rate_nm_rad, preload_nm, external_torque_nm, damping_nm_s_rad, its free spring "
+    "free.spring_rate_nm_rad and free.preload_nm, its swing in deg, and it has no offset": (
+        [design(), design(OSCILLATING, {"swing_deg": 20}), design(free={"base_radius_mm": [10, 200],
+                                                                         "offset_mm": [-5, 5]})],
+        [(design(inertia_kgm2=0.004), "not the torques of an oscillating one"),
+         (design(OSCILLATING, {"swing_deg": 20}, mass_kg=0.5), "not the forces of a translating one"),
+         (design(OSCILLATING, {"swing_deg": 20}, free={"base_radius_mm": [10, 200], "offset_mm": [-5, 5]}),
+          "free.offset_mm is a translating knife-edge or roller follower's"),
+         (design({"type": "flat-faced"}, free={"base_radius_mm": [10, 200], "offset_mm": [-5, 5]}),
+          "a flat face's offset does not change its cam"),
+         (design(free={"base_radius_mm": [10, 200], "spring_rate_nm_rad": [1, 5]}),
+          "a translating follower's spring is free.spring_rate_n_mm"),
+         (design(OSCILLATING), "an oscillating follower's lift is swing_deg, not lift_mm")]),
     "give exactly one of speed_fluctuation and inertia_kgm2": (
         [machine(flywheel={"speed_fluctuation": 0.05}), machine(flywheel={"inertia_kgm2": 2})],
         [(machine(flywheel={"speed_fluctuation": 0.05, "inertia_kgm2": 2}), "give exactly one of speed_fluctuation"),
@@ -667,6 +701,8 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     # distance compared (sums, a sine of the roller pitch, a share); the plates' extent, known once drawn
     "must be a multiple of stops", "The rollers reach the cam axis", "The rollers of a plate collide",
     "below the plates' resolution", "reaches the turret's axis", "sweep over the cam axis",
+    # its plates' solids: two numbers of the solid compared
+    "spacing_mm must be at least thickness_mm",
     # roller-gear cams: the rollers' length against their pitch radius, a sine of the roller pitch at the
     # inner end against the roller radius, sums against the centre distance, a share of it
     "The rollers leave no room for the rib", "The rollers cross the turret's axis",
@@ -678,6 +714,17 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     "motor names must be unique", "is the whole cycle t0", "no candidate meets every requirement",
     # machines: names compared across the axes and the rules; an oscillating unit's strokes (ratio × dwells)
     "axis names must be unique", "is not an axis of this machine", "strokes per camshaft turn must be even",
+    # a plate-cam design: its bounds compared (lo ≤ hi, something to minimise moves), the speeds' range, and
+    # what the cam turns out to be (a corner of its lift, no design within the bounds); and the request's
+    # rules statable one by one that the document leaves to the validator, schemathesis resolving no more
+    # than two on one model (service/profiles/design_specs.py, VALIDATOR_RULES)
+    "is above the upper bound", "nothing to minimise", "or a range [lo, hi] with 0 < lo ≤ hi",
+    "the cam has a corner there (radius of curvature 0)", "reachable within the bounds",
+    "the limits cannot all be met within the bounds", "the largest contact force the follower keeps within the bounds",
+    "a follower's mass (or inertia) needs speed_rpm", "give base_radius_mm, or free it",
+    "free.roller_radius_mm needs a roller follower", "free.pivot_distance_mm and free.arm_length_mm are not searched",
+    "need the follower's mass_kg", "the follower's mass needs a spring", "limits.allowed_stress_mpa needs roller",
+    "are a roller follower's limits", "roller (width and materials) goes with a roller follower's stress limit",
     # a result beyond the range of float64
     "produced a non-finite number",
 )))

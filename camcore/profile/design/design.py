@@ -13,7 +13,7 @@ How the optimum is found (each step exact where it can be, bounded where it cann
    base radius, so the smallest feasible radius is the largest of each limit's own root (as
    :func:`camcore.profile.base_circle.size_base_circle` does), and the lower bound.
 3. **The rest** (offset, roller radius): a bounded search (:mod:`.search`) over them, on the lift
-   sampled every 0.25° (:mod:`.evaluate`), located to 1e-6 of each variable's range; the design it
+   sampled every 0.25° (:mod:`.evaluate`), located to 1e-5 of each variable's range; the design it
    settles on is solved again exactly (:mod:`.exact`).
 
 Where the spring and the Hertz limit trade (a preload lower bound below what the softest spring needs:
@@ -172,67 +172,62 @@ def design_profile(problem: DesignProblem) -> ProfileDesign:
     search = SearchCam(pb.spec, pb.limits, spring, pb.rb_lo)
     search.preload_floor = pb.preload[0] if pb.preload is not None else 0.0
     exact = ExactCam(pb.spec, pb.limits, spring, pb.rb_lo, pb.rb_hi)
-    fixed_preload = None if spring is None or coupled else _preload(pb, spring, softest)
 
-    def lanes_of(points: FloatArray, names: list[str]) -> Lanes:
+    def lanes_of(points: FloatArray, names: list[str], rate: float, preload: float | None) -> Lanes:
+        """Candidates at these points, every one with this spring rate and preload."""
         m = points.shape[0]
         column = {n: points[:, i] for i, n in enumerate(names)}
-        rate = column.get(pb.rate_name, np.full(m, softest))
-        if spring is None:
-            preload = np.full(m, np.nan)
-        elif coupled:  # the preload of each rate on the search's grid
-            assert search.state is not None
-            preload = np.maximum(search.preload_floor, (-spring.reserve(search.state, rate)).max(axis=1))
-        else:
-            preload = np.full(m, fixed_preload)
+        preload = math.nan if preload is None else preload
         return Lanes(column.get("offset_mm", np.full(m, pb.offset[0])),
-                     column.get("roller_radius_mm", np.full(m, pb.roller[0])), rate, preload)
+                     column.get("roller_radius_mm", np.full(m, pb.roller[0])), np.full(m, rate), np.full(m, preload))
 
-    def run(names: list[str], lo: list[float], hi: list[float]) -> tuple[SearchOutcome, Candidate | None]:
-        outcome = minimum(lambda x: search.needed_radius(lanes_of(x, names), pb.rb_hi),
-                          np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64))
+    def run(rate: float) -> tuple[SearchOutcome, Candidate | None]:
+        """The geometry searched with this spring rate (its preload the smallest that holds)."""
+        preload = None if spring is None else _preload(pb, spring, rate)
+        outcome = minimum(lambda x: search.needed_radius(lanes_of(x, geometry, rate, preload), pb.rb_hi),
+                          np.asarray(box[0], dtype=np.float64), np.asarray(box[1], dtype=np.float64))
         if outcome.point is None:
             return outcome, None
-        point = dict(zip(names, (float(x) for x in outcome.point), strict=True))
-        rate = point.get(pb.rate_name, softest)
-        preload = None if spring is None else (_preload(pb, spring, rate) if coupled else fixed_preload)
+        point = dict(zip(geometry, (float(x) for x in outcome.point), strict=True))
         return outcome, Candidate(point.get("offset_mm", pb.offset[0]), point.get("roller_radius_mm", pb.roller[0]),
                                   None if spring is None else rate, preload)
 
-    names = list(geometry)
-    box = ([pb.offset[0] if n == "offset_mm" else pb.roller[0] for n in names],
-           [pb.offset[1] if n == "offset_mm" else pb.roller[1] for n in names])
+    box = ([pb.offset[0] if n == "offset_mm" else pb.roller[0] for n in geometry],
+           [pb.offset[1] if n == "offset_mm" else pb.roller[1] for n in geometry])
+    names, rate = list(geometry), softest
     traded = coupled  # the rate is chosen against the stress: the softest that fits is solved for at the end
-    if coupled:
-        # the geometry alone at the softest spring first: when the stress does not decide that optimum,
-        # no stiffer spring can lower it (the other limits do not depend on the spring)
+    if coupled and spring is not None:
+        names.append(pb.rate_name)
+        # the geometry alone first: when, at that optimum, some rate keeps the stress within its limit (the
+        # rate that presses least there, by golden section: the stress is convex in the rate), this lower
+        # bound of the base radius is the optimum
         search.with_stress = False
-        outcome, cand = run(names, *box)
+        outcome, cand = run(softest)
         search.with_stress = True
-        if cand is not None and spring is not None:
-            radii = exact.geometric_radii(cand)
-            geometric = max([pb.rb_lo, *radii.values()])
-            if geometric <= pb.rb_hi:
-                # the rate that presses least there (the stress is convex in the rate: golden section),
-                # then the softest whose stress fits; when one does, this lower bound is the optimum
-                best = _least_stress_rate(search, cand, geometric, softest, stiffest)
-                at_best = replace(cand, rate=best, preload=_preload(pb, spring, best))
-                if exact.stress_radius(at_best, geometric) == -math.inf:
-                    cand, coupled, traded = at_best, False, True
-        if coupled:
-            names.append(pb.rate_name)
-            box = ([*box[0], softest], [*box[1], stiffest])
-            evaluated = outcome.evaluations
-            outcome, cand = run(names, *box)
-            outcome = replace(outcome, evaluations=outcome.evaluations + evaluated)
+        if cand is not None:
+            geometric = max([pb.rb_lo, *exact.geometric_radii(cand).values()])
+            rate = _least_stress_rate(search, cand, min(geometric, pb.rb_hi), softest, stiffest)
+            cand = replace(cand, rate=rate, preload=_preload(pb, spring, rate))
+            if not (geometric <= pb.rb_hi and exact.stress_radius(cand, geometric) == -math.inf):
+                # the stress decides even then: the geometry again at that rate, then the rate that
+                # presses least at the geometry found
+                evaluated = outcome.evaluations
+                outcome, cand = run(rate)
+                outcome = replace(outcome, evaluations=outcome.evaluations + evaluated)
+                if cand is not None:
+                    at = min(max([pb.rb_lo, *exact.radii(cand).values()]), pb.rb_hi)
+                    rate = _least_stress_rate(search, cand, at, softest, stiffest)
+                    cand = replace(cand, rate=rate, preload=_preload(pb, spring, rate))
     else:
-        outcome, cand = run(names, *box)
+        outcome, cand = run(softest)
+    preload = None if spring is None else _preload(pb, spring, rate)
+    rates = (softest, stiffest) if traded else None
     if cand is None:
-        raise _infeasible(pb, search, exact, names, *box, lambda x: lanes_of(x, names))
+        raise _infeasible(pb, search, exact, geometry, *box, lambda x: lanes_of(x, geometry, rate, preload), rates)
     radii = exact.radii(cand)
     rb = max([pb.rb_lo, *radii.values()])
     if not rb <= pb.rb_hi:
-        raise _infeasible(pb, search, exact, names, *box, lambda x: lanes_of(x, names))
+        raise _infeasible(pb, search, exact, geometry, *box, lambda x: lanes_of(x, geometry, rate, preload), rates)
     rate_set_by_stress = False
     if traded and spring is not None:
         cand, rate_set_by_stress = _softest_at(pb, spring, exact, cand, rb, softest)
@@ -273,6 +268,12 @@ def _least_stress_rate(search: SearchCam, cand: Candidate, rb: float, softest: f
     """The spring rate in [softest, stiffest] with the least largest Hertz pressure at this cam (on the
     search's grid, by golden section: at each angle the normal force is affine in the rate plus the
     convex smallest preload, so their largest is convex in the rate) [N/mm or N·m/rad]."""
+    return _least_stress_at(search, cand, rb, softest, stiffest)[0]
+
+
+def _least_stress_at(search: SearchCam, cand: Candidate, rb: float, softest: float, stiffest: float
+                     ) -> tuple[float, float]:
+    """:func:`_least_stress_rate` and its (p0/p_allowed)² on the search's grid [N/mm or N·m/rad, -]."""
     assert search.spring is not None
     spring = search.spring
 
@@ -281,12 +282,19 @@ def _least_stress_rate(search: SearchCam, cand: Candidate, rb: float, softest: f
         lanes = Lanes(np.full(rate.size, cand.offset_mm), np.full(rate.size, cand.roller_radius_mm), rate, preload)
         return search.extremes(lanes, np.full(rate.size, rb))[0]["stress"]
 
+    return _least_stress(stress, softest, stiffest)
+
+
+def _least_stress(stress: Callable[[FloatArray], FloatArray], softest: float, stiffest: float) -> tuple[float, float]:
+    """The rate of [softest, stiffest] where ``stress`` (convex) is least, and its value: 17 rates, then golden
+    section between the best one's neighbours [N/mm or N·m/rad, -]."""
     rates = np.linspace(softest, stiffest, 17)
-    j = int(np.argmin(stress(rates)))
+    on_grid = stress(rates)
+    j = int(np.argmin(on_grid))
     a, b = float(rates[max(j - 1, 0)]), float(rates[min(j + 1, 16)])
     x, v = golden_max(lambda r: -stress(np.asarray(r, dtype=np.float64)), a, b,
                       width=LOCATION_TOLERANCE * (stiffest - softest))
-    return float(x[0]) if -float(v[0]) <= float(stress(rates[j:j + 1])[0]) else float(rates[j])
+    return (float(x[0]), -float(v[0])) if -float(v[0]) <= float(on_grid[j]) else (float(rates[j]), float(on_grid[j]))
 
 
 def _preload(pb: _Problem, spring: SpringModel, rate: float) -> float:
@@ -369,42 +377,50 @@ def _answer(pb: _Problem, exact: ExactCam, spring: SpringModel | None, cand: Can
 
 
 def _infeasible(pb: _Problem, search: SearchCam, exact: ExactCam, names: list[str], lo: list[float],
-                hi: list[float], lanes_of: Callable[[FloatArray], Lanes]) -> InvalidParameterError:
+                hi: list[float], lanes_of: Callable[[FloatArray], Lanes],
+                rates: tuple[float, float] | None) -> InvalidParameterError:
     """The 422 of a problem no design within the bounds meets: the first limit that cannot be met even
     alone, with the best value reachable (at the upper bound of the base radius, the other variables
     searched for it as the design is), or else the limit furthest from being met where they come closest."""
     box_lo, box_hi = np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64)
 
-    def margins(points: FloatArray) -> dict[str, FloatArray]:
-        lanes = lanes_of(points)
-        _lo, upper = search.bracket(lanes, pb.rb_hi)
-        return search.margins(lanes, np.where(np.isfinite(upper), upper, pb.rb_hi))
+    def worst(names: tuple[str, ...] | None) -> Callable[[FloatArray], FloatArray]:
+        """−(the best margin over the base radius) of these limits (all: None), to minimise."""
+        def objective(points: FloatArray) -> FloatArray:
+            return np.nan_to_num(-search.best_margin(lanes_of(points), pb.rb_hi, names)[0], nan=np.inf,
+                                 neginf=np.inf)
+        return objective
 
-    names_of = list(margins(np.asarray([box_lo])).keys())
+    names_of = list(search.margins(lanes_of(np.asarray([box_lo])), np.array([pb.rb_hi])).keys())
     alone, outcome = None, None
     for name in names_of:  # the coarse grid screens; a limit it finds unmet everywhere is refined to be sure
-        def worst(x: FloatArray, n: str = name) -> FloatArray:
-            return np.nan_to_num(-margins(x)[n], nan=np.inf, neginf=np.inf)
-
-        if grid_minimum(worst, box_lo, box_hi, refine=False).value > 0:
-            outcome = minimum(worst, box_lo, box_hi)
+        if grid_minimum(worst((name,)), box_lo, box_hi, refine=False).value > 0:
+            outcome = minimum(worst((name,)), box_lo, box_hi)
             if outcome.point is None or outcome.value > 0:
                 alone = name
                 break
     if alone is not None and outcome is not None:
         name, how = alone, "alone"
     else:
-        outcome = minimum(lambda x: np.max(np.vstack([np.nan_to_num(-m, nan=np.inf, neginf=np.inf)
-                                                     for m in margins(x).values()]), axis=0), box_lo, box_hi)
+        outcome = minimum(worst(None), box_lo, box_hi)
         how = "together"
         name = names_of[0]
     point = box_lo if outcome.point is None else outcome.point
     lanes = lanes_of(np.asarray([point]))
-    upper = float(search.bracket(lanes, pb.rb_hi)[1][0])
+    _best, best_at = search.best_margin(lanes, pb.rb_hi, (name,) if how == "alone" else None, refine=True)
     cand = Candidate(float(lanes.offset[0]), float(lanes.roller[0]),
                      None if exact.spring is None else float(lanes.rate[0]),
                      None if exact.spring is None else float(lanes.preload[0]))
-    at = upper if math.isfinite(upper) else pb.rb_hi
+    at = float(best_at[0]) if math.isfinite(float(best_at[0])) else pb.rb_hi
+    if rates is not None and exact.spring is not None:
+        if name == "allowed_stress_mpa":  # the base radius and the rate that press least, together
+            lo_rb, hi_rb = (float(x[0]) for x in search.bracket(lanes, pb.rb_hi))
+            if math.isfinite(lo_rb):
+                best = golden_max(lambda r: -np.array([_least_stress_at(search, cand, float(v), *rates)[1] for v in r]),
+                                  lo_rb, hi_rb, width=1e-6 * hi_rb)[0]
+                at = float(best[0])
+        rate = _least_stress_rate(search, cand, at, *rates)
+        cand = replace(cand, rate=rate, preload=_preload(pb, exact.spring, rate))
     try:
         values = exact.values(cand, at)
     except GeometryError:
@@ -419,7 +435,7 @@ def _infeasible(pb: _Problem, search: SearchCam, exact: ExactCam, names: list[st
     word = "smallest" if name in UPPER_LIMITS else "largest"
     where = (f"base radius {at:.6g} mm" + (f", offset {cand.offset_mm:.6g} mm" if "offset_mm" in names else "")
              + (f", roller radius {cand.roller_radius_mm:.6g} mm" if "roller_radius_mm" in names else "")
-             + (f", spring rate {cand.rate:.6g}" if pb.rate_name in names and cand.rate is not None else ""))
+             + (f", spring rate {cand.rate:.6g}" if rates is not None and cand.rate is not None else ""))
     if how == "alone":
         message = (f"{name}: the {word} reachable within the bounds is {value:.4g}{unit} (limit {limit:g}{unit}), "
                    f"at {where}.")

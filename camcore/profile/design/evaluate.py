@@ -32,11 +32,13 @@ References
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
 
+from ..._maxima import golden_max
 from ...curves.base import FloatArray
 from ...deadline import checkpoint
 from ...errors import GeometryError
@@ -92,6 +94,12 @@ class SearchCam:
         self.lift = spec.lift.derivatives(self.theta, 2)
         self.floor = FLOOR_SHARE * rb_lo
         self.closed_form = spec.follower.motion == "translating" and not self.model.flat_faced
+        self.oscillating_point = spec.follower.motion == "oscillating" and not self.model.flat_faced
+        if self.oscillating_point:
+            self.pivot_mm = float(spec.follower.pivot_distance_mm or 0.0)
+            self.arm_mm = float(spec.follower.arm_length_mm or 0.0)
+            swing = np.radians(self.lift[0])
+            self.swing_range = (float(swing.min()), float(swing.max()))
         self.state = None if spring is None else spring.loaded.state(self.theta)
         roller = None if spring is None else spring.load.roller
         self.stress_scale = None
@@ -101,6 +109,11 @@ class SearchCam:
             # p0² = F_n·E*/(π·b·R): this is E*/(π·b·p_allowed²)
             self.stress_scale = e_star / (math.pi * roller.width_mm * limits.allowed_stress_mpa**2)
         self.margin_evaluations = 0
+        #: the curvature limit's request name (the millimetres when both are given: its value is then
+        #: the larger requirement)
+        self.curvature_name = ("min_radius_of_curvature_mm" if limits.min_radius_of_curvature_mm is not None
+                               or limits.min_radius_of_curvature_roller_multiple is None
+                               else "min_radius_of_curvature_roller_multiple")
         #: whether the stress limit counts (off: the geometry alone)
         self.with_stress = True
         #: the preload's lower bound, for lanes whose preload follows their rate [N or N·m]
@@ -109,20 +122,21 @@ class SearchCam:
     # ------------------------------------------------------------------ the limits
     def curvature_needed(self, roller: FloatArray) -> FloatArray | None:
         """The smallest radius of curvature of the cam surface each lane must keep [mm] (None: no limit:
-        a knife-edge without one; a roller must not undercut, a flat face must be convex)."""
+        a knife-edge without one; a roller must not undercut, a flat face must be convex; both limits given:
+        the larger)."""
         lim = self.limits
-        if lim.min_radius_of_curvature_roller_multiple is not None:
-            return lim.min_radius_of_curvature_roller_multiple * roller
-        if lim.min_radius_of_curvature_mm is not None:
-            return np.full_like(roller, lim.min_radius_of_curvature_mm)
-        if self.spec.follower.type == "knife-edge":
-            return None
-        return np.zeros_like(roller)
+        if lim.min_radius_of_curvature_mm is None and lim.min_radius_of_curvature_roller_multiple is None:
+            return None if self.spec.follower.type == "knife-edge" else np.zeros_like(roller)
+        multiple = lim.min_radius_of_curvature_roller_multiple or 0.0
+        return np.maximum(lim.min_radius_of_curvature_mm or 0.0, multiple * roller)
 
-    def _kinematics(self, lanes: Lanes, rb: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, BoolArray]:
-        """φ, κp (point followers) or the surface's ρ (flat faces), cos φ and whether each lane's cam can be
-        assembled, on the search grid: rows are lanes [rad, 1/mm or mm, -]."""
+    def _kinematics(self, lanes: Lanes, rb: FloatArray, pressure: bool
+                    ) -> tuple[FloatArray | None, FloatArray, FloatArray | None, BoolArray]:
+        """φ (when ``pressure``), κp (point followers) or the surface's ρ (flat faces), cos φ (with a stress
+        limit) and whether each lane's cam can be assembled, on the search grid: rows are lanes [rad,
+        1/mm or mm, -]."""
         h, h1, h2 = (x[None, :] for x in self.lift)
+        stress = self.stress_scale is not None and self.with_stress
         if self.closed_form:
             e, rr = lanes.offset[:, None], lanes.roller[:, None]
             square = (rb[:, None] + rr) ** 2 - e * e
@@ -131,7 +145,9 @@ class SearchCam:
             r, p = s0 + h, h1 - self.sigma * e
             den = r * r + p * p
             kappa = (r * r - r * h2 + p * (p + h1)) / den**1.5
-            return np.arctan2(p, r), kappa, r / np.sqrt(den), valid
+            return (np.arctan2(p, r) if pressure else None), kappa, (r / np.sqrt(den) if stress else None), valid
+        if self.oscillating_point:
+            return self._arm_kinematics(lanes, rb)
         n = self.theta.size
         phi, curv, cos_phi = np.zeros((rb.size, n)), np.zeros((rb.size, n)), np.ones((rb.size, n))
         valid = np.ones(rb.size, dtype=bool)
@@ -153,6 +169,29 @@ class SearchCam:
             cos_phi[i] = np.cos(kin.pressure)
         return phi, curv, cos_phi, valid
 
+    def _arm_kinematics(self, lanes: Lanes, rb: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, BoolArray]:
+        """An oscillating knife-edge or roller for every lane at once: the point B(α) = (d − L cos α, L sin α) at
+        α = α0 + ψ, cos α0 = (d² + L² − (Rb + Rr)²)/(2dL), and the point followers' formulas of
+        :mod:`camcore.profile.followers` (u1 = c' − σJc, u2 = c'' − 2σJc' − c, κp = −σ(u1 × u2)/|u1|³,
+        φ = atan2(u1·v̂, −σ u1·Jv̂))."""
+        d, arm, sg = self.pivot_mm, self.arm_mm, self.sigma
+        r = rb + lanes.roller
+        alpha0 = np.arccos(np.clip((d * d + arm * arm - r * r) / (2 * d * arm), -1.0, 1.0))
+        valid = ((abs(d - arm) < r) & (r < d + arm) & (alpha0 + self.swing_range[0] > 0)
+                 & (alpha0 + self.swing_range[1] < math.pi))
+        a = alpha0[:, None] + np.radians(self.lift[0])[None, :]
+        a1, a2 = np.radians(self.lift[1])[None, :], np.radians(self.lift[2])[None, :]
+        sa, ca = np.sin(a), np.cos(a)
+        cx, cy = d - arm * ca, arm * sa
+        c1x, c1y = arm * sa * a1, arm * ca * a1
+        c2x, c2y = arm * (ca * a1 * a1 + sa * a2), arm * (-sa * a1 * a1 + ca * a2)
+        u1x, u1y = c1x + sg * cy, c1y - sg * cx
+        u2x, u2y = c2x + 2 * sg * c1y - cx, c2y - 2 * sg * c1x - cy
+        speed = np.hypot(u1x, u1y)
+        kappa = -sg * (u1x * u2y - u1y * u2x) / speed**3
+        along, across = u1x * sa + u1y * ca, -sg * (-u1x * ca + u1y * sa)  # u1·v̂ and −σ u1·Jv̂, v̂ = (sin α, cos α)
+        return np.arctan2(along, across), kappa, across / speed, valid
+
     def _stress_squared(self, lanes: Lanes, kappa: FloatArray, cos_phi: FloatArray) -> FloatArray:
         """(p0/p_allowed)² at every angle of every lane: F_n·E*/(π·b·R)/p_allowed², with
         F_n = max_ω(Q)/(r·cos φ) and R = Rr·(1 − Rr·κp); +inf where R ≤ 0 (undercut) [-]."""
@@ -164,25 +203,28 @@ class SearchCam:
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.where(radius > 0, self.stress_scale * normal / radius, np.inf)
 
-    def extremes(self, lanes: Lanes, rb: FloatArray) -> tuple[dict[str, FloatArray], BoolArray]:
+    def extremes(self, lanes: Lanes, rb: FloatArray, pressure: bool = True) -> tuple[dict[str, FloatArray], BoolArray]:
         """The sampled extremes each limit bounds, at these base radii, and whether each lane's cam can be
         assembled: ``rise`` max φ and ``return`` max −φ [deg], ``kappa`` max κp [1/mm] (point followers)
         or ``rho`` min ρ [mm] (flat faces), ``stress`` max (p0/p_allowed)² [-]."""
         checkpoint()
         if rb.size > CHUNK:
-            parts = [self.extremes(lanes.take(np.arange(i, min(i + CHUNK, rb.size))), rb[i:i + CHUNK])
+            parts = [self.extremes(lanes.take(np.arange(i, min(i + CHUNK, rb.size))), rb[i:i + CHUNK], pressure)
                      for i in range(0, rb.size, CHUNK)]
             return ({k: np.concatenate([p[0][k] for p in parts]) for k in parts[0][0]},
                     np.concatenate([p[1] for p in parts]))
         self.margin_evaluations += rb.size
-        phi, curv, cos_phi, valid = self._kinematics(lanes, rb)
-        deg = np.degrees(phi)
-        out = {"rise": deg.max(axis=1), "return": (-deg).max(axis=1)}
+        phi, curv, cos_phi, valid = self._kinematics(lanes, rb, pressure)
+        out = {}
+        if phi is not None:
+            deg = np.degrees(phi)
+            out = {"rise": deg.max(axis=1), "return": (-deg).max(axis=1)}
         if self.model.flat_faced:
             out["rho"] = curv.min(axis=1)
         else:
             out["kappa"] = curv.max(axis=1)
         if self.stress_scale is not None and self.with_stress:
+            assert cos_phi is not None
             out["stress"] = self._stress_squared(lanes, curv, cos_phi).max(axis=1)
         return out, valid
 
@@ -209,15 +251,14 @@ class SearchCam:
         assembled (dimensionless: shares of the limit).
 
         ``pressure=False`` leaves the pressure limits out (the closed form has met them already)."""
-        ext, valid = self.extremes(lanes, rb)
+        ext, valid = self.extremes(lanes, rb, pressure)
         out = {}
         if pressure:
             for name, (limit, sides) in self._pressure_limits().items():
                 out[name] = 1.0 - np.max(np.vstack([ext[side] for side in sides]), axis=0) / limit
         needed = self.curvature_needed(lanes.roller)
         if needed is not None:
-            name = ("min_radius_of_curvature_roller_multiple"
-                    if self.limits.min_radius_of_curvature_roller_multiple is not None else "min_radius_of_curvature_mm")
+            name = self.curvature_name
             if self.model.flat_faced:
                 out[name] = (ext["rho"] - needed) / np.maximum(needed, 1.0)
             else:
@@ -238,15 +279,49 @@ class SearchCam:
         if needed is not None:
             with np.errstate(divide="ignore"):
                 rho = ext["rho"] if self.model.flat_faced else 1.0 / ext["kappa"] - lanes.roller
-            if lim.min_radius_of_curvature_roller_multiple is not None:
-                out["min_radius_of_curvature_roller_multiple"] = (
-                    rho / lanes.roller, np.full(rb.size, lim.min_radius_of_curvature_roller_multiple))
+            if self.curvature_name == "min_radius_of_curvature_roller_multiple":
+                out[self.curvature_name] = (rho / lanes.roller, needed / lanes.roller)
             else:
-                out["min_radius_of_curvature_mm"] = (rho, needed)
+                out[self.curvature_name] = (rho, needed)
         if "stress" in ext:
             allowed = float(lim.allowed_stress_mpa or 0.0)
             out["allowed_stress_mpa"] = (allowed * np.sqrt(ext["stress"]), np.full(rb.size, allowed))
         return {name: (np.where(valid, v, np.nan), limit) for name, (v, limit) in out.items()}
+
+    def best_margin(self, lanes: Lanes, rb_hi: float, names: tuple[str, ...] | None = None, refine: bool = False
+                    ) -> tuple[FloatArray, FloatArray]:
+        """The largest over the base radius of the smallest of these limits' margins (all: None), for each
+        lane, and the base radius where [-, mm].
+
+        Where every margin grows with the radius (a translating follower's geometry) it is the upper end's;
+        else the margin is unimodal over the lane's range (an arm's pressure angle rises again as it nears
+        folding; the stress on a concave flank rises with the radius): the best of :data:`BEST_RADII`
+        radii spread over it, and with ``refine`` that refined by golden section."""
+        lo, hi = self.bracket(lanes, rb_hi)
+        ok = np.isfinite(lo) & np.isfinite(hi)
+        lo, hi = np.where(ok, lo, rb_hi), np.where(ok, hi, rb_hi)
+
+        def smallest(which: IndexArray, rb: FloatArray) -> FloatArray:
+            m = self.margins(lanes.take(which), np.asarray(rb, dtype=np.float64))
+            return np.where(ok[which], np.min(np.vstack([m[n] for n in (names or tuple(m))]), axis=0), -np.inf)
+
+        every = np.arange(lanes.size)
+        monotone = self.closed_form and not (self.stress_scale is not None and (names is None or
+                                                                                "allowed_stress_mpa" in names))
+        if monotone:
+            return smallest(every, hi), hi
+        share = np.linspace(0.0, 1.0, BEST_RADII)
+        radii = lo[:, None] + (hi - lo)[:, None] * share[None, :]
+        values = smallest(np.repeat(every, BEST_RADII), radii.ravel()).reshape(lanes.size, BEST_RADII)
+        j = np.argmax(values, axis=1)
+        best, at = values[every, j], radii[every, j]
+        if refine:
+            step = (hi - lo) / (BEST_RADII - 1)
+            x, v = golden_max(lambda r: smallest(every, r), np.maximum(lo, at - step), np.minimum(hi, at + step),
+                              width=1e-9 * float(np.max(hi)))
+            better = v > best
+            best, at = np.where(better, v, best), np.where(better, x, at)
+        return best, at
 
     def bracket(self, lanes: Lanes, rb_hi: float) -> tuple[FloatArray, FloatArray]:
         """Each lane's range of base radii worth solving in: from the geometric floor (or the pressure's
@@ -256,6 +331,14 @@ class SearchCam:
         if self.closed_form:
             lo = np.maximum(lo, np.abs(lanes.offset) - lanes.roller + 1e-9 * max(1.0, rb_hi))
             return np.maximum(lo, self.pressure_radius(lanes)), hi
+        if self.oscillating_point:
+            # |d − L| < Rb + Rr < d + L, and α0 + ψmax < π: Rb + Rr < √(d² + L² + 2dL·cos ψmax)
+            d, arm = self.pivot_mm, self.arm_mm
+            reach = min(d + arm, math.sqrt(max(d * d + arm * arm + 2 * d * arm * math.cos(self.swing_range[1]), 0.0)))
+            margin = 1e-9 * max(1.0, reach)
+            lo = np.maximum(lo, abs(d - arm) - lanes.roller + margin)
+            hi = np.minimum(hi, reach - lanes.roller - margin)
+            return np.where(lo <= hi, lo, np.inf), np.where(lo <= hi, hi, np.inf)
         for i in range(lanes.size):
             follower = replace(self.spec.follower, offset_mm=float(lanes.offset[i]),
                                roller_radius_mm=float(lanes.roller[i]))
@@ -279,9 +362,54 @@ class SearchCam:
         return np.sqrt(np.maximum(s0, 0.0) ** 2 + lanes.offset**2) - lanes.roller
 
     def needed_radius(self, lanes: Lanes, rb_hi: float) -> FloatArray:
-        """The smallest base radius meeting every limit, for each lane: the root of the smallest margin,
-        from the geometric floor (or the pressure's closed form) up to ``rb_hi``; +inf where even ``rb_hi``
-        does not meet them [mm].
+        """The smallest base radius meeting every limit, for each lane, +inf where none up to ``rb_hi`` does
+        [mm]: the geometric limits' root (:meth:`_geometric_radius`), then the stress's above it.
+
+        The geometric margins grow with the base radius. The Hertz pressure's need not: on a concave flank
+        it rises with the base radius (the flank flattens, the contact conforms less), so the largest over
+        the turn first falls and then rises, and its margin is unimodal. Above the geometric root it is
+        therefore met at once, or it falls there (then nowhere above), or it rises: a root below the upper
+        end when that meets it, else below the margin's maximum (golden section) if that does.
+        """
+        if self.stress_scale is None or not self.with_stress:
+            return self._geometric_radius(lanes, rb_hi)
+        self.with_stress = False
+        try:
+            out = self._geometric_radius(lanes, rb_hi)
+        finally:
+            self.with_stress = True
+        _lo, upper = self.bracket(lanes, rb_hi)
+
+        def stress(which: IndexArray, rb: FloatArray) -> FloatArray:
+            return self.margins(lanes.take(which), rb, pressure=False)["allowed_stress_mpa"]
+
+        lanes_in = np.flatnonzero(np.isfinite(out))
+        if lanes_in.size == 0:
+            return out
+        at_g = stress(lanes_in, out[lanes_in])
+        need = lanes_in[at_g < 0]
+        if need.size == 0:
+            return out
+        g, f_g, top = out[need].copy(), at_g[at_g < 0], upper[need].astype(np.float64)
+        out[need] = np.inf
+        rising = stress(need, g + RISE_STEP * (top - g)) > f_g
+        need, g, f_g, top = need[rising], g[rising], f_g[rising], top[rising]
+        if need.size == 0:
+            return out
+        at_top = stress(need, top)
+        unmet = np.flatnonzero(at_top < 0)
+        if unmet.size:
+            top[unmet], at_top[unmet] = _feasible_point(lambda which, x: stress(need[unmet[which]], x), g[unmet],
+                                                        top[unmet])
+        ok = at_top >= 0
+        need, g, f_g, top, at_top = need[ok], g[ok], f_g[ok], top[ok], at_top[ok]
+        if need.size:
+            out[need] = _illinois(lambda which, rb: stress(need[which], rb), g, top, f_g, at_top)
+        return out
+
+    def _geometric_radius(self, lanes: Lanes, rb_hi: float) -> FloatArray:
+        """The root of the smallest margin (every limit but the stress: they all grow with the base
+        radius), from the geometric floor or the pressure's closed form up to ``rb_hi`` [mm].
 
         Below the lower bound the root is still solved (not clipped): how far below it says how much
         room a candidate leaves, which ranks candidates that all meet the limits at the lower bound.
@@ -305,6 +433,12 @@ class SearchCam:
             return out
         hi = upper[rest].astype(np.float64)
         at_hi = smallest(rest, hi)
+        unmet = np.flatnonzero(at_hi < 0)
+        if unmet.size and self.oscillating_point:
+            # an arm's pressure angle rises again as the arm nears folding (α0 → π): the margin is unimodal,
+            # so where the upper end fails a point that meets it on the way to its maximum brackets the root
+            hi[unmet], at_hi[unmet] = _feasible_point(lambda which, x: smallest(rest[unmet[which]], x),
+                                                      lo[rest[unmet]].astype(np.float64), hi[unmet].copy())
         bracketed = at_hi >= 0
         rest, hi, at_hi = rest[bracketed], hi[bracketed], at_hi[bracketed]
         if rest.size == 0:
@@ -314,14 +448,57 @@ class SearchCam:
         return out
 
 
+def _feasible_point(margin: Callable[[IndexArray, FloatArray], FloatArray], a: FloatArray, b: FloatArray
+                    ) -> tuple[FloatArray, FloatArray]:
+    """For each lane a point of (a, b) where a unimodal margin is ≥ 0, and the margin there: golden section
+    towards its maximum, a lane stopping at its first such point (or after :data:`PEAK_STEPS`, with the best
+    it found, < 0)."""
+    g = GOLDEN
+    x1, x2 = b - g * (b - a), a + g * (b - a)
+    lanes = np.arange(a.size)
+    f1, f2 = margin(lanes, x1), margin(lanes, x2)
+    best_x, best_f = np.where(f1 >= f2, x1, x2), np.maximum(f1, f2)
+    active = lanes[best_f < 0]
+    for _ in range(PEAK_STEPS):
+        checkpoint()
+        if active.size == 0:
+            break
+        right = f1[active] < f2[active]  # the maximum lies in [x1, b]
+        a[active] = np.where(right, x1[active], a[active])
+        b[active] = np.where(right, b[active], x2[active])
+        new = np.where(right, a[active] + g * (b[active] - a[active]), b[active] - g * (b[active] - a[active]))
+        f_new = margin(active, new)
+        x1[active], x2[active] = np.where(right, x2[active], new), np.where(right, new, x1[active])
+        f1[active], f2[active] = np.where(right, f2[active], f_new), np.where(right, f_new, f1[active])
+        better = f_new > best_f[active]
+        best_x[active] = np.where(better, new, best_x[active])
+        best_f[active] = np.where(better, f_new, best_f[active])
+        active = active[best_f[active] < 0]
+    return best_x, best_f
+
+
+#: the step above the geometric root, as a share of the way to the upper end, that tells whether the
+#: stress margin still rises there
+RISE_STEP = 1e-4
+#: base radii over a lane's range at which a 422's best value is looked for (then refined by golden section)
+BEST_RADII = 9
+#: golden-section steps of the search for a point meeting a stress margin that falls again towards the upper
+#: end (0.618^16 ≈ 5e-4 of the bracket: a window of feasible radii narrower than that is missed by the search,
+#: not by the exact solve at the design found)
+PEAK_STEPS = 16
+GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
 #: the search's base radius is solved to this relative width (it ranks candidates; the answer is solved
 #: again to 1e-10 by the exact solves)
 ROOT_REL_TOL = 1e-9
 
 
-def _illinois(margin: object, a: FloatArray, b: FloatArray, f_a: FloatArray, f_b: FloatArray) -> FloatArray:
+def _illinois(margin: Callable[[IndexArray, FloatArray], FloatArray], a: FloatArray, b: FloatArray, f_a: FloatArray, f_b: FloatArray) -> FloatArray:
     """The smallest x in (a, b] with margin ≥ 0 for every lane, margins growing with x (f_a < 0 ≤ f_b):
     Illinois regula falsi on all open lanes together, to :data:`ROOT_REL_TOL`; the feasible ends."""
+    if a.size == 1:  # one lane: the same steps in Python floats (an array operation's fixed cost is most of it)
+        first = np.zeros(1, dtype=np.intp)
+        return np.array([_illinois_one(lambda x: float(margin(first, np.array([x]))[0]),
+                                       float(a[0]), float(b[0]), float(f_a[0]), float(f_b[0]))])
     side = np.zeros(a.size, dtype=np.int8)  # +1: b moved last time, −1: a moved last time
     active = np.arange(a.size)
     for _ in range(200):
@@ -333,7 +510,7 @@ def _illinois(margin: object, a: FloatArray, b: FloatArray, f_a: FloatArray, f_b
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             chord = hi - fhi * (hi - lo) / (fhi - flo)
         mid = np.where(np.isfinite(chord) & (chord > lo) & (chord < hi), chord, 0.5 * (lo + hi))
-        f_mid = margin(active, mid)  # type: ignore[operator]
+        f_mid = margin(active, mid)
         ok = f_mid >= 0
         stale = side[active]
         b[active] = np.where(ok, mid, hi)
@@ -341,6 +518,27 @@ def _illinois(margin: object, a: FloatArray, b: FloatArray, f_a: FloatArray, f_b
         a[active] = np.where(ok, lo, mid)
         f_a[active] = np.where(ok, np.where(stale == 1, 0.5 * flo, flo), f_mid)
         side[active] = np.where(ok, 1, -1)
+    return b
+
+
+def _illinois_one(margin: Callable[[float], float], a: float, b: float, f_a: float, f_b: float) -> float:
+    """:func:`_illinois` for one lane."""
+    side = 0
+    for _ in range(200):
+        checkpoint()
+        if not (b - a > ROOT_REL_TOL * max(1.0, b) and f_b != 0):
+            break
+        chord = b - f_b * (b - a) / (f_b - f_a) if math.isfinite(f_a) and f_b != f_a else math.nan
+        mid = chord if math.isfinite(chord) and a < chord < b else 0.5 * (a + b)
+        f_mid = margin(mid)
+        if f_mid >= 0:
+            b, f_b = mid, f_mid
+            f_a = 0.5 * f_a if side == 1 else f_a
+            side = 1
+        else:
+            a, f_a = mid, f_mid
+            f_b = 0.5 * f_b if side == -1 else f_b
+            side = -1
     return b
 
 

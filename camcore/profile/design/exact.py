@@ -62,6 +62,8 @@ class ExactCam:
         #: exact runs over the turn (checks or dynamics extremes) of the solves here, and calls of size_base_circle
         self.runs = 0
         self.sizings = 0
+        self._geometric: dict[tuple[float, float], dict[str, float]] = {}
+        self._stress: dict[tuple[float, ...], float] = {}
 
     def cam(self, c: Candidate, rb: float) -> CamSpec:
         """The cam of a candidate at base radius ``rb`` (not validated)."""
@@ -71,16 +73,21 @@ class ExactCam:
     def curvature_needed(self, c: Candidate) -> float | None:
         """The smallest radius of curvature of the surface the candidate must keep [mm] (None: no limit)."""
         lim = self.limits
-        if lim.min_radius_of_curvature_roller_multiple is not None:
-            return lim.min_radius_of_curvature_roller_multiple * c.roller_radius_mm
-        if lim.min_radius_of_curvature_mm is not None:
-            return lim.min_radius_of_curvature_mm
-        return None if self.spec.follower.type == "knife-edge" else 0.0
+        if lim.min_radius_of_curvature_mm is None and lim.min_radius_of_curvature_roller_multiple is None:
+            return None if self.spec.follower.type == "knife-edge" else 0.0
+        multiple = lim.min_radius_of_curvature_roller_multiple or 0.0
+        return max(lim.min_radius_of_curvature_mm or 0.0, multiple * c.roller_radius_mm)
 
-    def curvature_name(self) -> str:
-        """The curvature limit's request name."""
-        multiple = self.limits.min_radius_of_curvature_roller_multiple is not None
-        return "min_radius_of_curvature_roller_multiple" if multiple else "min_radius_of_curvature_mm"
+    def curvature_name(self, c: Candidate) -> str:
+        """The curvature limit's request name: the one that asks more of this candidate (the millimetres
+        on a tie, and when no limit is given: a roller's undercut, a flat face's convexity)."""
+        lim = self.limits
+        if lim.min_radius_of_curvature_roller_multiple is None:
+            return "min_radius_of_curvature_mm"
+        multiple = lim.min_radius_of_curvature_roller_multiple * c.roller_radius_mm
+        mm = lim.min_radius_of_curvature_mm
+        return "min_radius_of_curvature_mm" if mm is not None and mm >= multiple else \
+            "min_radius_of_curvature_roller_multiple"
 
     # ------------------------------------------------------------------ margins at a base radius
     def signed_pressure(self, spec: CamSpec) -> tuple[float, float]:
@@ -128,8 +135,12 @@ class ExactCam:
         return margin
 
     # ------------------------------------------------------------------ each limit's own radius
-    def _solve(self, spec: CamSpec, margin: Callable[[CamSpec], float], lo: float, hi: float) -> float:
-        """Smallest Rb in [lo, hi] with margin ≥ 0 (lo itself when it meets it; +inf when hi does not)."""
+    def _solve(self, spec: CamSpec, margin: Callable[[CamSpec], float], lo: float, hi: float,
+               unimodal: bool = False) -> float:
+        """Smallest Rb in [lo, hi] with margin ≥ 0 (lo itself when it meets it; +inf when none does).
+
+        ``unimodal``: the margin may fall again towards ``hi`` (the Hertz pressure on a concave flank);
+        where ``hi`` fails, a point that meets it on the way to its maximum brackets the root."""
         def at(rb: float) -> float:
             s = replace(spec, base_radius_mm=rb)
             try:
@@ -140,8 +151,13 @@ class ExactCam:
 
         if at(lo) >= 0:
             return lo
-        if not hi > lo or at(hi) < 0:
+        if not hi > lo:
             return math.inf
+        if at(hi) < 0:
+            found = _feasible_point(at, lo, hi) if unimodal else None
+            if found is None:
+                return math.inf
+            hi = found
         try:
             return smallest_feasible(at, lo, hi)
         except NoFeasiblePointError:
@@ -158,7 +174,13 @@ class ExactCam:
 
     def geometric_radii(self, c: Candidate) -> dict[str, float]:
         """Each geometric limit's own smallest base radius (pressure angle, curvature) [mm]; +inf where
-        the bounds hold none."""
+        the bounds hold none (kept for each offset and roller radius: the spring does not change them)."""
+        key = (c.offset_mm, c.roller_radius_mm)
+        if key not in self._geometric:
+            self._geometric[key] = self._geometric_radii(c)
+        return dict(self._geometric[key])
+
+    def _geometric_radii(self, c: Candidate) -> dict[str, float]:
         spec = self.cam(c, self.rb_lo)
         req = self.curvature_needed(c)
         pressure = self._pressure_margins()
@@ -172,14 +194,15 @@ class ExactCam:
                 if result.radius_for_pressure_angle_mm is not None:
                     out[next(iter(pressure))] = result.radius_for_pressure_angle_mm
                 if result.radius_for_curvature_mm is not None:
-                    out[self.curvature_name()] = result.radius_for_curvature_mm
+                    out[self.curvature_name(c)] = result.radius_for_curvature_mm
             return out
         lo, hi = self.bracket(c)
         margins = dict(pressure)
         if req is not None:
-            margins[self.curvature_name()] = self._curvature_margin(req)
+            margins[self.curvature_name(c)] = self._curvature_margin(req)
         for name, margin in margins.items():
-            out[name] = self._solve(spec, margin, lo, hi)
+            # an arm's pressure angle rises again as the arm nears folding: unimodal, not monotone
+            out[name] = self._solve(spec, margin, lo, hi, unimodal=not self.translating)
         return out
 
     def stress_radius(self, c: Candidate, start: float) -> float:
@@ -188,12 +211,19 @@ class ExactCam:
         assert self.spring is not None and c.rate is not None and c.preload is not None
         allowed = self.limits.allowed_stress_mpa
         assert allowed is not None
+        key = (c.offset_mm, c.roller_radius_mm, c.rate, c.preload, start)
+        if key not in self._stress:
+            self._stress[key] = self._stress_radius(c, start, allowed)
+        return self._stress[key]
+
+    def _stress_radius(self, c: Candidate, start: float, allowed: float) -> float:
+        assert self.spring is not None and c.rate is not None and c.preload is not None
         hi = self.rb_hi if self.translating else self.bracket(c)[1]
         margin = self.spring.stress_margin(c.rate, c.preload, allowed)
         spec = self.cam(c, start)
         if margin(spec) >= 0:
             return -math.inf  # met at the start: its own root lies below, and decides nothing
-        return self._solve(spec, margin, start, hi)
+        return self._solve(spec, margin, start, hi, unimodal=True)
 
     def radii(self, c: Candidate) -> dict[str, float]:
         """Every limit's own smallest base radius [mm]: the geometric ones, then the stress from the
@@ -222,10 +252,11 @@ class ExactCam:
         req = self.curvature_needed(c)
         if req is not None:
             rho = req + self._curvature_margin(req)(spec)
+            if lim.min_radius_of_curvature_mm is not None or lim.min_radius_of_curvature_roller_multiple is None:
+                out["min_radius_of_curvature_mm"] = (rho, lim.min_radius_of_curvature_mm or 0.0)
             if lim.min_radius_of_curvature_roller_multiple is not None:
-                out[self.curvature_name()] = (rho / c.roller_radius_mm, lim.min_radius_of_curvature_roller_multiple)
-            else:
-                out[self.curvature_name()] = (rho, req)
+                out["min_radius_of_curvature_roller_multiple"] = (rho / c.roller_radius_mm,
+                                                                   lim.min_radius_of_curvature_roller_multiple)
         if self.spring is not None and c.rate is not None and c.preload is not None:
             contact, stress = self.spring.extremes(c.rate, c.preload, spec)
             out["safety_margin_n"] = (contact, self.spring.margin_n)
@@ -233,3 +264,26 @@ class ExactCam:
                 out["allowed_stress_mpa"] = (stress, lim.allowed_stress_mpa)
         return out
 
+
+
+def _feasible_point(margin: Callable[[float], float], a: float, b: float) -> float | None:
+    """A point of (a, b) where a unimodal margin is ≥ 0: golden section towards its maximum (to 1e-6 of the
+    bracket: a window of feasible radii narrower than that is taken for none), stopping at the first such
+    point; None when its maximum is < 0."""
+    g = (math.sqrt(5.0) - 1.0) / 2.0
+    x1, x2 = b - g * (b - a), a + g * (b - a)
+    f1, f2 = margin(x1), margin(x2)
+    width = 1e-6 * (b - a)
+    while True:
+        if max(f1, f2) >= 0:
+            return x1 if f1 >= 0 else x2
+        if b - a < width:
+            return None
+        if f1 < f2:  # the maximum lies in [x1, b]
+            a, x1, f1 = x1, x2, f2
+            x2 = a + g * (b - a)
+            f2 = margin(x2)
+        else:
+            b, x2, f2 = x2, x1, f1
+            x1 = b - g * (b - a)
+            f1 = margin(x1)

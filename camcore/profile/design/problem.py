@@ -51,8 +51,8 @@ class DesignLimits:
     ``max_pressure_angle_deg`` limits the pressure angle while the cam pushes the follower out
     (φ > 0), and on the return too unless ``max_return_pressure_angle_deg`` is given (φ < 0: the
     spring drives the follower back, so a larger angle is usual there). The smallest radius of
-    curvature of the cam surface's convex parts is at least ``min_radius_of_curvature_mm`` or
-    ``min_radius_of_curvature_roller_multiple`` × the roller radius. ``allowed_stress_mpa``
+    curvature of the cam surface's convex parts is at least ``min_radius_of_curvature_mm`` and
+    ``min_radius_of_curvature_roller_multiple`` × the roller radius (the larger, when both are given). ``allowed_stress_mpa``
     [N/mm²] bounds the roller's Hertz pressure, ``safety_margin_n`` the contact force the
     follower keeps, both at the worst speed of the range.
     """
@@ -163,9 +163,6 @@ def _check_limits(problem: DesignProblem) -> None:
         value = getattr(limits, name)
         if value is not None and not (math.isfinite(value) and value >= 0):
             raise _bad(f"limits.{name} must be a finite number ≥ 0, not {value!r}.", "limits", name)
-    if limits.min_radius_of_curvature_mm is not None and limits.min_radius_of_curvature_roller_multiple is not None:
-        raise _bad("give min_radius_of_curvature_mm or min_radius_of_curvature_roller_multiple, not both.",
-                   "limits", "min_radius_of_curvature_roller_multiple")
     if limits.min_radius_of_curvature_roller_multiple is not None and follower.type != "roller":
         raise _bad(f"limits.min_radius_of_curvature_roller_multiple needs a roller follower, not a {follower.type}.",
                    "limits", "min_radius_of_curvature_roller_multiple")
