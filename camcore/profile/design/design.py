@@ -42,10 +42,11 @@ from ...curves.base import FloatArray
 from ...errors import GeometryError, InvalidParameterError
 from ..cam import CamSpec
 from ..checks import corners
-from .evaluate import Lanes, SearchCam, assembly_range
+from .evaluate import Lanes, SearchCam
 from .exact import Candidate, ExactCam
 from .problem import DesignProblem, check_problem
 from .results import DesignConstraint, DesignSearch, DesignValues, ProfileDesign
+from .roots import assembly_range
 from .search import LOCATION_TOLERANCE, SearchOutcome, grid_minimum, nested_minimum
 from .spring import SpringModel
 

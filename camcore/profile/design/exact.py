@@ -34,8 +34,8 @@ from ...errors import GeometryError
 from ..base_circle import size_base_circle
 from ..cam import CamSpec, kinematics, validate
 from ..checks import check_maxima, lift_grid
-from .evaluate import assembly_range
 from .problem import DesignLimits
+from .roots import assembly_range
 from .spring import SpringModel
 
 

@@ -96,6 +96,8 @@ def grid_minimum(objective: Callable[[FloatArray], FloatArray], lo: FloatArray, 
         ``points (m, d) -> values (m,)``; +inf where a point is infeasible [mm].
     lo, hi : ndarray
         The box, lo < hi in every variable [mm, N/mm or N·m/rad].
+    refine : bool
+        Refine the coarse grid's best points (else the best coarse point is the answer).
 
     Returns
     -------
