@@ -6,6 +6,7 @@ STEP, or STL of the kernel's mesh (``solid-stl``).
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from camcore.cams.roller_gear import (
@@ -61,8 +62,10 @@ SOLID_STL = Format("solid-stl", "model/stl", "the same solid as a binary STL in 
 #: each solid format and the kernel's writer of it (camcore.export.SOLID_FORMATS)
 SOLIDS = {STEP.name: "step", SOLID_STL.name: "stl"}
 #: the patches may take this many times the estimate's cam angles before the solid is refused (413):
-#: the estimate bounded every cam measured by a fifth at least (camcore.work.roller_gear)
-NODES_SLACK = 2
+#: up to 1.5 times the estimated cam angles at the median 2.0 ms each stay within the estimate's 3.75 ms
+#: an angle; 300 of 304 random cams took no more than estimated, the rest at most 23 % more
+#: (camcore.work.roller_gear)
+NODES_SLACK = 1.5
 
 
 def _solid(body: RollerGearCamRequest) -> RollerGearSolidSpec:
@@ -135,7 +138,7 @@ def _compute(ctx: Context, body: RollerGearCamRequest, fmt: Format) -> Document 
         spec = _solid(body)
         item = RollerGearSolid(roller_gear_cam(ctx, body), spec.tolerance_mm, spec.bore_diameter_mm,
                                spec.root_clearance_mm, spec.body_length_mm,
-                               NODES_SLACK * rib_nodes_estimate(body.center_distance_mm, _fit_tolerance(body, fmt)),
+                               math.floor(NODES_SLACK * rib_nodes_estimate(body.center_distance_mm, _fit_tolerance(body, fmt))),
                                ctx.settings.max_stl_triangles)
         return Payload(ctx.cad.write(SOLIDS[fmt.name], item))
     r = roller_gear(ctx, body)

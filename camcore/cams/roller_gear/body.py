@@ -220,4 +220,38 @@ def check_request(cam: RollerGearCam, tolerance_mm: float, root_clearance_mm: fl
             f"plane of the line of centres; this one starts at dφ/dθ = {float(start_speed[0]):.6g}.", field=("curve",))
     r_out = cam.roller_ends_mm[1]
     root = check_solid_body(cam.center_distance_mm, r_out, cam.roller_radius_mm, root_clearance_mm)
+    check_unfolded(cam)
     return top_radius(cam), root
+
+
+#: the grid the flanks' regularity is checked on before the fit (which checks its own nodes after):
+#: cam angles over the index, positions along the roller
+FOLD_GRID = (721, 9)
+#: a regularity under this is a fold: a flank swept nearly along itself (n·(Q_θ × Q_r)/(|Q_θ||Q_r|))
+#: has a fold within a grid step of it
+FOLD_LIMIT = 0.0
+
+
+def check_unfolded(cam: RollerGearCam) -> None:
+    """Raise :class:`GeometryError` (field indexing_angle_deg) where a flank folds (undercut) on a grid.
+
+    Parameters
+    ----------
+    cam : RollerGearCam
+        The cam.
+
+    Returns
+    -------
+    None
+
+    References
+    ----------
+    Litvin and Fuentes (2004), ch. 6 (singular points of an envelope); camcore.cams.roller_gear.
+    """
+    theta = np.linspace(0.0, math.radians(cam.indexer.indexing_angle_deg), FOLD_GRID[0])
+    r_in, r_out = cam.roller_ends_mm
+    for flank in FLANKS:
+        if flank_state(cam, flank, theta, np.linspace(r_in, r_out, FOLD_GRID[1])).regularity.min() <= FOLD_LIMIT:
+            raise GeometryError(
+                "The flanks fold (undercut, see checks.undercut): a rib the rollers cut into has no solid; a longer "
+                "indexing_angle_deg or a smaller turret turn per index unfolds them.", field=("indexing_angle_deg",))

@@ -119,7 +119,10 @@ def sample_roller_gear(cam: RollerGearCam, samples: int = 361, length_samples: i
     theta = np.linspace(0.0, 2 * math.pi, n)
     r_in, r_out = cam.roller_ends_mm
     positions = np.linspace(r_in, r_out, k)
-    turret = turret_motion(cam.indexer, theta)  # once: both flanks and the columns read it
+    # once: both flanks and the columns read it; its derivatives at 360° the dwell's (there the law
+    # gives the next index's start, whose acceleration a law like constant acceleration jumps to)
+    turret = (turret_motion(cam.indexer, theta)[0],
+              *turret_motion(cam.indexer, np.minimum(theta, np.nextafter(2 * math.pi, 0.0)))[1:])
     phi, d1, _ = turret
     states = {f: flank_state(cam, f, theta, positions, turret) for f in FLANKS}
     flanks = {f: RibFlank(f, np.ascontiguousarray(s.q[..., 0]), np.ascontiguousarray(s.q[..., 1]),

@@ -45,6 +45,7 @@ from functools import partial
 
 import numpy as np
 
+from ..._solvers import newton_roots
 from ...curves.base import FloatArray
 from ...curves.jumps import acceleration_jumps
 from ...deadline import checkpoint
@@ -80,13 +81,16 @@ ACROSS_SHARE = 0.2
 #: rib's root edges out of them, and their ends must meet the flanks' corners within its
 #: confusion (1e-7 mm) for the faces to share them
 TORUS_FIT = 1e-10
+#: the rib's edges must turn round the cam axis with the cam, dψ/dθ ≤ −this at every node (−1 in the
+#: dwell), so the patches hung on them between nodes do not fold either
+AZIMUTH_RATE = 0.05
 #: the most points across a patch (degree 23: OpenCASCADE takes degree 25 at most)
 MAX_ACROSS = 24
 #: the fewest points across a flank
 MIN_ACROSS = 4
-#: Newton's steps to a torus crossing along the roller, and the step that ends it [mm, relative to C]
-NEWTON_STEPS = 30
-NEWTON_TOLERANCE = 1e-13
+#: the root's crossing is looked for along the roller up to this share of the way to where its axis
+#: meets the cam axis (r = C/cos α), where the contact's formula ends
+REACH = 0.999
 #: how far a piece's end nodes are moved into the piece for the index law's formulas [rad]: at a break
 #: point the law evaluates its right-hand piece, and at θh still its last (the turret would not stand
 #: in the dwell), where the acceleration may jump; the point moves by φ'·1e-13 rad, ~1e-11 mm
@@ -149,34 +153,45 @@ class _Rib:
         """φ, φ', φ'' at θ, moved by ``side``·INSIDE (+1 at a piece's start, −1 at its end, 0 inside)."""
         return turret_motion(self.cam.indexer, theta + side * INSIDE)
 
-    def crossing(self, flank: Flank, theta: FloatArray, side: FloatArray, radius_mm: float,
-                 start_mm: float) -> tuple[FloatArray, FloatArray]:
-        """r where the flank crosses the torus d = radius at each θ, and dr/dθ (module notes)."""
+    def crossing(self, flank: Flank, theta: FloatArray, side: FloatArray, radius_mm: float, root: bool
+                 ) -> tuple[FloatArray, FloatArray]:
+        """r where the flank crosses the torus d = radius at each θ, and dr/dθ (module notes): the
+        top's between the turret axis (r = 0: d ≤ Rr there) and the roller's middle, the root's between
+        its middle and where its axis reaches the cam axis, both by the bracketed Newton."""
         turret = self.turret(theta, side)
         c = self.cam.center_distance_mm
-        r = np.full((theta.size, 1), start_mm)
-        for _ in range(NEWTON_STEPS):
-            s = flank_state(self.cam, flank, theta, r, turret)
-            grad = distance_gradient(c, s.p)
-            step = (torus_distance(c, s.p) - radius_mm) / np.einsum("...i,...i->...", grad, s.q_r)
-            r = r - step
-            if np.abs(step).max() <= NEWTON_TOLERANCE * c:
-                break
-        else:
-            raise GeometryError(f"the flank's crossing of the torus of radius {radius_mm:.6g} mm was not found.",
-                                field=("solid",))
-        s = flank_state(self.cam, flank, theta, r, turret)
-        grad = distance_gradient(c, s.p)
-        slope = -np.einsum("...i,...i->...", grad, s.q_theta) / np.einsum("...i,...i->...", grad, s.q_r)
-        return r[:, 0], slope[:, 0]
+        alpha = turret[0] - self.cam.behind_rad(flank)
+
+        def value_and_slope(r: FloatArray, which: np.ndarray) -> tuple[FloatArray, FloatArray]:
+            s = flank_state(self.cam, flank, theta[which], r[:, None], tuple(x[which] for x in turret))
+            gradient = distance_gradient(c, s.p[:, 0])
+            return torus_distance(c, s.p[:, 0]) - radius_mm, np.einsum("...i,...i->...", gradient, s.q_r[:, 0])
+
+        label = np.arange(theta.size)
+        # the crossings lie at the ends of the roller or beyond (at them in the dwell, to rounding), so
+        # each bracket starts from the roller's middle
+        middle = np.full(theta.size, self.cam.roller_pitch_radius_mm)
+        lo = middle if root else np.zeros(theta.size)
+        hi = REACH * c / np.cos(alpha) if root else middle
+        (f_lo, _), (f_hi, _) = value_and_slope(lo, label), value_and_slope(hi, label)
+        if not ((f_lo <= 0) & (f_hi >= 0)).all():
+            raise GeometryError(
+                "The flanks do not reach the body: near the index's fastest point the pressure angle along the "
+                "rollers (checks.max_pressure_angle_along_roller_deg) turns the contact round them and off towards "
+                "the cam axis before it meets the body's surface; a longer indexing_angle_deg lowers it.",
+                field=("indexing_angle_deg",))
+        r = newton_roots(value_and_slope, lo, hi, f_lo, f_hi, label)
+        s = flank_state(self.cam, flank, theta, r[:, None], turret)
+        gradient = distance_gradient(c, s.p)
+        slope = -np.einsum("...i,...i->...", gradient, s.q_theta) / np.einsum("...i,...i->...", gradient, s.q_r)
+        return r, slope[:, 0]
 
     def flank(self, flank: Flank, theta: FloatArray, side: FloatArray, across: FloatArray
               ) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Points (n, k, 3) and θ-derivatives of the flank between its crossings, at s = across,
         in the cam's frame, and the regularity there."""
-        r_in, r_out = self.cam.roller_ends_mm
-        top, dtop = self.crossing(flank, theta, side, self.top_mm, r_in)
-        root, droot = self.crossing(flank, theta, side, self.root_mm, r_out)
+        top, dtop = self.crossing(flank, theta, side, self.top_mm, root=False)
+        root, droot = self.crossing(flank, theta, side, self.root_mm, root=True)
         r = top[:, None] + across[None, :] * (root - top)[:, None]
         dr = dtop[:, None] + across[None, :] * (droot - dtop)[:, None]
         s = flank_state(self.cam, flank, theta, r, self.turret(theta, side))
@@ -293,15 +308,17 @@ MAX_THETA_NODES = 20_000
 GROWTH = (1.25, 4.0)
 
 
-def _flank_deviation(rib: _Rib, piece: _Piece, across: FloatArray) -> float:
-    """Fit the flanks on the piece's nodes; their largest deviation at the intervals' middles [mm]."""
+def _flank_deviation(rib: _Rib, piece: _Piece, across: FloatArray) -> tuple[float, float]:
+    """Fit the flanks on the piece's nodes; their largest deviation at the intervals' middles, and the
+    part of it along θ alone (at the across nodes, where the across polynomial is exact) [mm]."""
     t, side = piece.nodes()
     rows, regularity = _flank_rows(rib, t, side, across)
     mid, test = 0.5 * (t[1:] + t[:-1]), _across_test(across)
     exact, between = _flank_rows(rib, mid, np.zeros(mid.size), test)
     piece.rows, piece.regularity = rows, min(regularity, between)
     piece.z_extent = max(float(np.abs(v[0][..., 2]).max()) for v in (*rows.values(), *exact.values()))
-    return max(float(np.linalg.norm(_middles(rows, t, f, across, test) - exact[f][0], axis=-1).max()) for f in FLANKS)
+    error = [np.linalg.norm(_middles(rows, t, f, across, test) - exact[f][0], axis=-1) for f in FLANKS]
+    return max(float(e.max()) for e in error), max(float(e[:, ::2].max()) for e in error)  # nodes: even columns
 
 
 def _torus_deviation(rib: _Rib, piece: _Piece, across: Mapping[Band, FloatArray], half_mm: float) -> float:
@@ -371,24 +388,47 @@ def fit_rib_surfaces(cam: RollerGearCam, tolerance_mm: float, root_clearance_mm:
         if (count := sum(p.intervals for p in pieces) + 1) > max_theta_nodes:
             raise LimitExceededError("rib surface cam angles", count, max_theta_nodes, field=("solid", "tolerance_mm"))
 
-    flank_across = _choose_across(lambda nodes: _flank_across_error(rib, pieces, nodes),
-                                  ACROSS_SHARE * tolerance_mm, MIN_ACROSS, "flanks")
-    across: dict[Band, FloatArray] = dict.fromkeys(FLANKS, flank_across)
-    deviation = 0.0
-    for piece in pieces:
-        while (d := _flank_deviation(rib, piece, flank_across)) > target:
-            refine(piece, d)
-        deviation = max(deviation, d)
+    def fit_flanks(nodes: FloatArray) -> tuple[FloatArray, float]:
+        """Every piece's flanks within the target: more cam angles where the error along θ is more than
+        half of it, else more points across, every piece again (the across polynomial is shared)."""
+        deviation, piece_index = 0.0, 0
+        while piece_index < len(pieces):
+            total, along = _flank_deviation(rib, pieces[piece_index], nodes)
+            if total <= target:
+                deviation, piece_index = max(deviation, total), piece_index + 1
+            elif along > 0.5 * target:
+                refine(pieces[piece_index], along)
+            elif nodes.size < MAX_ACROSS:
+                nodes, deviation, piece_index = lobatto(nodes.size + 1), 0.0, 0
+                checkpoint()
+            else:
+                raise LimitExceededError("points across the flanks", MAX_ACROSS + 1, MAX_ACROSS,
+                                         field=("solid", "tolerance_mm"))
+        return nodes, deviation
+
+    flank_across, deviation = fit_flanks(_choose_across(lambda nodes: _flank_across_error(rib, pieces, nodes),
+                                                        ACROSS_SHARE * tolerance_mm, MIN_ACROSS, "flanks"))
     extent = max(p.z_extent for p in pieces)
     half = half_length(cam, root, extent, body_length_mm, tolerance_mm)
+    across: dict[Band, FloatArray] = dict.fromkeys(FLANKS, flank_across)
     for band in TORI:
         across[band] = _choose_across(partial(_torus_across_error, rib, pieces, half, band),
                                       TORUS_FIT * cam.center_distance_mm, 2, f"{band} patch")
-    for piece in pieces:
-        while (d := _torus_deviation(rib, piece, across, half)) > target:
-            refine(piece, d)
-            deviation = max(deviation, _flank_deviation(rib, piece, flank_across))
-        deviation = max(deviation, d)
+    while True:  # the tori's patches on the flanks' nodes, more where they need them, the flanks again
+        torus_deviation, refined = 0.0, False
+        for piece in pieces:
+            while (d := _torus_deviation(rib, piece, across, half)) > target:
+                refine(piece, d)
+                _flank_deviation(rib, piece, flank_across)
+                refined = True
+            torus_deviation = max(torus_deviation, d)
+        if not refined:
+            break
+        flank_across, deviation = fit_flanks(flank_across)
+        across.update(dict.fromkeys(FLANKS, flank_across))
+    deviation = max(deviation, torus_deviation)
+    if max(p.z_extent for p in pieces) >= half:
+        raise GeometryError("the rib reaches past the body's ends.", field=("solid", "body_length_mm"))
     _check_shape(rib, pieces)
     return RibSurfaces(_patches(pieces, across), cam.center_distance_mm, top, root, half, extent, deviation,
                        {band: int(nodes.size) for band, nodes in across.items()},
@@ -431,6 +471,16 @@ def _check_shape(rib: _Rib, pieces: list[_Piece]) -> None:
         if not (chi["forward"] > chi["back"]).all():
             raise GeometryError("The flanks cross: the rollers leave no rib between them (roller_radius_mm too large "
                                 "for the rollers' spacing).", field=("roller_radius_mm",))
+        t, _ = p.nodes()
+        for f in FLANKS:
+            for column in (0, -1):  # the rib's edges on the tori: the top's and the body's patches hang on them
+                turn = torus_coordinates(c, t, p.rows[f][0][:, column], p.rows[f][1][:, column])[2]
+                if turn.max() > -AZIMUTH_RATE:
+                    raise GeometryError(
+                        "The rib's edge runs back round the cam axis: near the body's throat (radius "
+                        f"{c - rib.root_mm:.6g} mm) the contact moves round the axis against the cam's turn, and the "
+                        "body's surface beside the rib would fold; a larger center_distance_mm (a wider throat) or a "
+                        "longer indexing_angle_deg avoids it.", field=("center_distance_mm",))
 
 
 def _patches(pieces: list[_Piece], across: Mapping[Band, FloatArray]) -> tuple[Patch, ...]:

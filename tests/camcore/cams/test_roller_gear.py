@@ -254,3 +254,15 @@ def test_bad_geometry_is_refused_with_the_rule(args: tuple, error: type, words: 
     with pytest.raises(error) as info:
         make_roller_gear_cam(*args, "MS")
     assert words in str(info.value)
+
+
+def test_the_rib_s_end_is_in_the_dwell_whatever_the_law_s_start() -> None:
+    """At 360° the turret stands in the dwell: the last sample is that surface of revolution, as the one
+    before it, not the next index's start (constant acceleration jumps to A ≠ 0 there, which folded
+    the last row and reported an undercut the cam does not have)."""
+    result = sample_roller_gear(make_roller_gear_cam(6, 238.3, 158.9, 20.06, 110.3, 274.0, "constant-acceleration"),
+                                361, 9)
+    assert not result.checks.undercut and result.checks.min_regularity > 0
+    for flank in (result.forward, result.back):
+        assert flank.pressure_angle_deg[-1] == pytest.approx(flank.pressure_angle_deg[-2], abs=1e-12)
+        assert flank.regular[-1].all()

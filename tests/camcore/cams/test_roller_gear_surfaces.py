@@ -66,9 +66,16 @@ def test_patches_share_their_boundaries_pole_for_pole(cam: object) -> None:
         assert np.abs(p[(band, "index")].poles[-1] - p[(band, "dwell")].poles[0]).max() < 1e-9
 
 
-@pytest.mark.parametrize("tolerance_mm", [0.1, 0.01, 1e-3])
-def test_patches_lie_on_the_exact_flank_and_on_their_tori(cam: object, tolerance_mm: float) -> None:
-    fit = fit_rib_surfaces(cam, tolerance_mm)  # type: ignore[arg-type]
+#: 36 stops, a 72° pressure angle along the roller: the across polynomial the starting nodes chose falls
+#: short between them (1.16e-3 mm against a 1e-3 target, however many cam angles), so the fit takes
+#: more points across rather than cam angles without end
+STEEP = (36, 448.7, 372.3, 7.23, 131.0, 211.3, "3-4-5")
+
+
+@pytest.mark.parametrize(("case", "tolerance_mm"), [(EXAMPLE, 0.1), (EXAMPLE, 0.01), (EXAMPLE, 1e-3), (STEEP, 2e-3)])
+def test_patches_lie_on_the_exact_flank_and_on_their_tori(case: tuple, tolerance_mm: float) -> None:
+    cam = make_roller_gear_cam(*case)
+    fit = fit_rib_surfaces(cam, tolerance_mm)
     rng = np.random.default_rng(4)
     r_in, r_out = cam.roller_ends_mm  # type: ignore[attr-defined]
     rr = cam.roller_radius_mm  # type: ignore[attr-defined]
@@ -85,7 +92,7 @@ def test_patches_lie_on_the_exact_flank_and_on_their_tori(cam: object, tolerance
         else:
             radius = fit.top_radius_mm if p.band == "top" else fit.root_radius_mm
             assert np.abs(ref.torus_distance(fit.center_distance_mm, s) - radius).max() <= tolerance_mm
-    # at the same (θ, s): a bound on the distance from the flank; measured 0.0027, 0.0029 and 2.7e-4 mm
+    # at the same (θ, s): a bound on the distance from the flank
     assert worst <= tolerance_mm
     assert fit.fit_deviation_mm <= FIT_SHARE * tolerance_mm
 

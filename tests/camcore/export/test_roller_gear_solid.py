@@ -263,6 +263,10 @@ def test_refusals_name_the_field(example: Built, change: dict, error: type, fiel
 @pytest.mark.parametrize(("case", "error", "field"), [
     ((8, 100.0, 60.0, 10.0, 20.0, 30.0, "MS"), GeometryError, ("indexing_angle_deg",)),  # undercut
     ((8, 100.0, 60.0, 10.0, 20.0, 120.0, "constant-velocity"), InvalidParameterError, ("curve",)),
+    # the pressure angle along the rollers reaches 75°: the contact turns off them before the body
+    ((10, 93.4, 65.3, 5.85, 44.8, 197.0, "MT"), GeometryError, ("indexing_angle_deg",)),
+    # a 3.2 mm throat: near it the rib's root edge runs back round the cam axis (dψ/dθ up to +1.5)
+    ((6, 33.9, 22.7, 2.94, 15.7, 78.5, "4-5-6-7"), GeometryError, ("center_distance_mm",)),
 ])
 def test_a_cam_without_a_solid_is_refused_with_the_field(case: tuple, error: type, field: tuple) -> None:
     with pytest.raises(error) as info:
