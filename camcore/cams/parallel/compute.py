@@ -28,7 +28,7 @@ from ..._checks import count
 from ...errors import GeometryError
 from ...results import doc
 from .geometry import FloatArray, ParallelCam
-from .polyline import CHORD_SHARE, contour_points, distance_to_polyline
+from .polyline import CHORD_SHARE, ContourPoints, contour_points, distance_to_polyline
 from .trace import PlateContour, PlateSamples, TooCoarse, trace_plate
 
 #: a roller counts as at its plate (for the undercut check) within this share of its radius
@@ -160,23 +160,56 @@ def _check_round_the_axis(cam: ParallelCam, plate: int, x: FloatArray, y: FloatA
             "the turret's shaft; fewer stops or more rollers per plate bring them round to the cam.")
 
 
-def _trace(cam: ParallelCam, plate: int, samples: int, finer: int) -> tuple[PlateContour, PlateSamples, int]:
+def _trace(cam: ParallelCam, plate: int, samples: int, finer: int
+           ) -> tuple[PlateContour, PlateSamples, int, ContourPoints]:
     """The plate traced at samples × finer cam angles, or twice or four times that where a roller's
-    path all but stops and its envelope sweeps round the roller within a step."""
+    path all but stops and its envelope sweeps round the roller within a step; its points checked
+    to go once round the axis inside the turret's axis."""
     for more in range(REFINEMENTS + 1):
         try:
             contour, s = trace_plate(cam, plate, samples * finer * 2**more)
-            return contour, s, finer * 2**more
+            break
         except TooCoarse:
             if more == REFINEMENTS:
                 raise
-    raise AssertionError("unreachable")  # pragma: no cover
+    pts = contour_points(contour, s.step)
+    _check_round_the_axis(cam, plate, pts.x, pts.y)
+    return contour, s, finer * 2**more, pts
+
+
+def plate_contour(cam: ParallelCam, plate: int, samples: int) -> tuple[PlateContour, ContourPoints]:
+    """One plate's exact contour and its points, without the contacts (for its files).
+
+    Parameters
+    ----------
+    cam : ParallelCam
+        The cam.
+    plate : int
+        0 … plates − 1 [-].
+    samples : int
+        Cam angles per turn, as :func:`sample_parallel` takes them (traced at least 720 a turn) [-].
+
+    Returns
+    -------
+    (PlateContour, ContourPoints)
+        The pieces and the points (counter-clockwise, within 1e-4·Rr of the contour).
+
+    Raises
+    ------
+    GeometryError
+        As :func:`sample_parallel`.
+
+    References
+    ----------
+    :mod:`camcore.cams.parallel.trace` (the method).
+    """
+    n = count("samples", samples)
+    contour, _s, _finer, pts = _trace(cam, plate, n, trace_factor(n))
+    return contour, pts
 
 
 def _plate(cam: ParallelCam, plate: int, samples: int, finer: int) -> tuple[Plate, PlateContour]:
-    contour, s, finer = _trace(cam, plate, samples, finer)
-    pts = contour_points(contour, s.step)
-    _check_round_the_axis(cam, plate, pts.x, pts.y)
+    contour, s, finer, pts = _trace(cam, plate, samples, finer)
     touching, at_plate = _contacts(cam, s, pts.x, pts.y, finer)
     side, chain, j = np.nonzero(touching)
     roller = s.roller(chain, j)

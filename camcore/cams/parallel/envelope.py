@@ -44,7 +44,8 @@ class EnvelopePoints:
     """Both-side quantities of roller envelope points (arrays of one shape), in the cam's frame.
 
     ``x, y`` the point [mm]; ``tx, ty`` the unit tangent T of the pitch curve as τ grows;
-    ``stretch`` = |u1|·(1 + s·Rr·κp), dE/dτ = stretch·T [mm/rad]; ``px, py`` the roller's
+    ``speed`` = |u1| = |dP/dτ| [mm/rad]; ``stretch`` = |u1|·(1 + s·Rr·κp), dE/dτ = stretch·T
+    [mm/rad]; ``px, py`` the roller's
     centre [mm]; ``pressure_deg`` within ±90° and ``drives`` (the plate pushes the turret on)
     of a contact there; ``kappa`` the pitch curve's curvature on the side of the point
     (positive where it bends towards it: convex seen from the plate) [1/mm]; ``rho`` the
@@ -55,6 +56,7 @@ class EnvelopePoints:
     y: FloatArray
     tx: FloatArray
     ty: FloatArray
+    speed: FloatArray
     stretch: FloatArray
     px: FloatArray
     py: FloatArray
@@ -127,7 +129,7 @@ def _roller(cam: ParallelCam, alpha0: FloatArray, tau: FloatArray) -> tuple[Floa
     phi, d1, d2 = cam.turret(tau)
     # the turret roller with α₀ = 0: its arm angle is the lift, α₀ + φ
     lift = [np.degrees(alpha0 + phi), np.degrees(d1), np.degrees(d2)]
-    model = cam.follower(0.0)
+    model = cam.roller_model
     cx, cy, c1x, c1y, *_ = model.pitch_point(0.0, *lift)
     k = model.kinematics(0.0, 1.0, tau, lift)
     # u1 = c′ − J·c (σ = +1): the pitch curve's derivative, in the fixed frame
@@ -153,7 +155,7 @@ def _on_side(cam: ParallelCam, state: tuple[FloatArray, ...], side: FloatArray) 
     kappa = -side * kappa_pitch
     with np.errstate(divide="ignore"):
         rho = 1.0 / kappa - rr
-    return EnvelopePoints(x, y, tx, ty, speed * (1.0 - rr * kappa), px, py, folded, drives, kappa, rho)
+    return EnvelopePoints(x, y, tx, ty, speed, speed * (1.0 - rr * kappa), px, py, folded, drives, kappa, rho)
 
 
 def centres(cam: ParallelCam, alpha0: FloatArray | float, tau: FloatArray
@@ -177,15 +179,25 @@ def centres(cam: ParallelCam, alpha0: FloatArray | float, tau: FloatArray
     References
     ----------
     camcore.profile.cam (kinematic inversion): P′ = R(−τ)·u1, P″ = R(−τ)·u2 with
-    u1 = c′ − J·c, u2 = c″ − 2J·c′ − c.
+    u1 = c′ − J·c, u2 = c″ − 2J·c′ − c; camcore.profile.followers (the oscillating follower's
+    pitch point).
     """
     tau = np.asarray(tau, dtype=np.float64)
-    alpha0, tau = np.broadcast_arrays(np.asarray(alpha0, dtype=np.float64), tau)
     phi, d1, d2 = cam.turret(tau)
-    cx, cy, c1x, c1y, c2x, c2y, *_ = cam.follower(0.0).pitch_point(
-        0.0, np.degrees(alpha0 + phi), np.degrees(d1), np.degrees(d2))
+    # the oscillating roller follower's pitch point B(α) = (C − Rp·cos α, Rp·sin α) and its
+    # derivatives (camcore.profile.followers, KnifeEdgeOscillating.pitch_point), written out here:
+    # the tracing and fitting ask for a few points at a time, thousands of times
+    # (tests/camcore/cams/test_parallel_contour.py checks they agree with the model)
+    rp = cam.roller_pitch_radius_mm
+    alpha = alpha0 + phi
+    sa, ca = np.sin(alpha), np.cos(alpha)
+    d1sq = d1 * d1
+    cx, cy = cam.center_distance_mm - rp * ca, rp * sa
+    c1x, c1y = rp * sa * d1, rp * ca * d1
+    c2x, c2y = rp * (ca * d1sq + sa * d2), rp * (ca * d2 - sa * d1sq)
+    # u1 = c′ − J·c, u2 = c″ − 2J·c′ − c, turned into the cam's frame by R(−τ)
     u1x, u1y = c1x + cy, c1y - cx
     u2x, u2y = c2x + 2 * c1y - cx, c2y - 2 * c1x - cy
     cos_t, sin_t = np.cos(tau), np.sin(tau)
-    return (cos_t * cx + sin_t * cy, -sin_t * cx + cos_t * cy, cos_t * u1x + sin_t * u1y,
-            -sin_t * u1x + cos_t * u1y, cos_t * u2x + sin_t * u2y, -sin_t * u2x + cos_t * u2y)
+    return (cos_t * cx + sin_t * cy, cos_t * cy - sin_t * cx, cos_t * u1x + sin_t * u1y,
+            cos_t * u1y - sin_t * u1x, cos_t * u2x + sin_t * u2y, cos_t * u2y - sin_t * u2x)

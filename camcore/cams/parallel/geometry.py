@@ -49,6 +49,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -58,7 +59,7 @@ from ...curves.curve import Curve
 from ...errors import GeometryError, InvalidParameterError
 from ...indexer import Indexer
 from ...profile.followers import Follower, RollerOscillating
-from ..turret import index_law, turret_motion
+from ..turret import index_law
 
 #: the smallest roller and pitch radius, as a share of the centre distance: a roller a thousandth
 #: of the cam's size is below any plate a shop cuts, and its envelope's tolerances (shares of C,
@@ -94,8 +95,23 @@ class ParallelCam:
         return np.asarray(-self.pitch_rad / 2 + plate * self.pitch_rad / self.plates + k * self.pitch_rad)
 
     def turret(self, theta: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """φ, dφ/dθ, d²φ/dθ² at any cam angles (turn k adds k·h) [rad, -, 1/rad]."""
-        return turret_motion(self.indexer, theta)
+        """φ, dφ/dθ, d²φ/dθ² at any cam angles (turn k adds k·h) [rad, -, 1/rad].
+
+        :func:`camcore.cams.turret.turret_motion`'s values (tests/camcore/cams/test_parallel_contour.py
+        checks they agree), from the index law's curve directly: the plates' tracing and fitting ask
+        for a few angles at a time, thousands of times, where the indexer's motion table (times,
+        speeds, jerks) costs 0.2 ms a call and this 0.03 ms.
+        """
+        curve, t_start, s_start, d_t, scales, theta_h, h = self._law
+        theta = np.asarray(theta, dtype=np.float64)
+        turns = np.floor(theta * (0.5 / math.pi))
+        within = theta - turns * (2 * math.pi)
+        s, v, a = curve.derivatives((t_start + d_t * np.minimum(within / theta_h, 1.0)).reshape(-1), 2)
+        index = (within <= theta_h).reshape(-1)
+        phi = np.where(index, scales[0] * (s - s_start), h).reshape(theta.shape) + turns * h
+        d1 = np.where(index, scales[1] * v, 0.0).reshape(theta.shape)
+        d2 = np.where(index, scales[2] * a, 0.0).reshape(theta.shape)
+        return phi, d1, d2
 
     def centres(self, alpha0: FloatArray | float, theta: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Roller centres in the cam's frame: α₀ broadcast against θ [mm]."""
@@ -108,9 +124,30 @@ class ParallelCam:
 
     def follower(self, alpha0: float) -> _TurretRoller:
         """Roller of arm angle α₀ at θ = 0 as the profile module's oscillating roller follower."""
+        if alpha0 == 0.0:
+            return self.roller_model
         return _TurretRoller(Follower(type="roller", motion="oscillating", roller_radius_mm=self.roller_radius_mm,
                                       arm_length_mm=self.roller_pitch_radius_mm,
                                       pivot_distance_mm=self.center_distance_mm), alpha0)
+
+    @cached_property
+    def _law(self) -> tuple[Curve, float, float, float, tuple[float, float, float], float, float]:
+        """The index law's curve, its start (t, S), span of t, the scales of S, S′, S″ to φ, φ′, φ″,
+        θh [rad] and h [rad] (:class:`camcore.indexer.Indexer`'s motion over the input angle)."""
+        curve = self.indexer.curve
+        assert isinstance(curve, Curve)  # the indexer makes a name its catalog curve
+        d_t, d_s = self.indexer.spans
+        theta_h = math.radians(self.indexer.indexing_angle_deg)
+        h = self.index_rad
+        scales = (h / d_s, h * d_t / (theta_h * d_s), h * d_t * d_t / (theta_h * theta_h * d_s))
+        return curve, float(curve.t_start), float(curve.s_start), float(d_t), scales, theta_h, h
+
+    @cached_property
+    def roller_model(self) -> _TurretRoller:
+        """The roller whose arm angle is the lift (α₀ = 0), made once: the envelopes add α₀ to the lift."""
+        return _TurretRoller(Follower(type="roller", motion="oscillating", roller_radius_mm=self.roller_radius_mm,
+                                      arm_length_mm=self.roller_pitch_radius_mm,
+                                      pivot_distance_mm=self.center_distance_mm), 0.0)
 
 
 class _TurretRoller(RollerOscillating):

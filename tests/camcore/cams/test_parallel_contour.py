@@ -190,3 +190,36 @@ def test_a_roller_that_all_but_stops_is_traced_finer() -> None:
         ring = shapely.LinearRing(np.column_stack([b.x_mm, b.y_mm]))
         # each exact point of one lies within the other's chord tolerance of it
         assert shapely.distance(shapely.points(a.x_mm, a.y_mm), ring).max() <= delta
+
+
+@pytest.mark.parametrize("curve", ["MS", "MT", "cycloid", "constant-velocity"])
+def test_the_turret_and_the_centres_are_the_models(curve: str) -> None:
+    """ParallelCam.turret and envelope.centres write out the indexer's motion and the oscillating
+    follower's pitch point for speed: they agree with camcore.cams.turret.turret_motion (the indexer's
+    motion table) and with the follower model's pitch point (camcore.profile.followers), over several
+    turns, at the index's ends and in the dwell."""
+    from camcore.cams.parallel.envelope import centres, envelope
+    from camcore.cams.turret import turret_motion
+
+    cam = make_parallel_cam(6, 100.0, 60.0, 8.0, 120.0, curve, plates=3)
+    theta = np.concatenate([np.linspace(-13.0, 40.0, 20_001), [0.0, 2 * math.pi, math.radians(120.0)]])
+    for mine, theirs in zip(cam.turret(theta), turret_motion(cam.indexer, theta), strict=True):
+        # both are h·S(θ/θh) and its slopes; they round differently (degrees there, radians here)
+        assert np.abs(mine - theirs).max() <= 1e-13
+    alpha0 = 0.3
+    px, py, p1x, p1y, p2x, p2y = centres(cam, alpha0, theta)
+    e = envelope(cam, alpha0, 1.0, theta)  # through the follower model's pitch point and kinematics
+    assert np.abs(px - e.px).max() <= 1e-12 and np.abs(py - e.py).max() <= 1e-12
+    speed = np.hypot(p1x, p1y)
+    assert np.abs(p1x / speed - e.tx).max() <= 1e-12 and np.abs(p1y / speed - e.ty).max() <= 1e-12
+    # the pitch curve's curvature from P′, P″ against the follower's κp (on side +1 the envelope's κ is −κp)
+    kappa_pitch = -(p1x * p2y - p1y * p2x) / speed**3
+    assert np.abs(kappa_pitch + e.kappa).max() <= 1e-12 * max(1.0, float(np.abs(e.kappa).max()))
+    # the second derivative against a central difference of the first (h = 1e-6 rad: error ~1e-9·|P⁗|)
+    # inside the index, away from the law's break points
+    t = np.linspace(0.1, 1.9, 101)
+    h = 1e-6
+    ahead, behind = centres(cam, alpha0, t + h), centres(cam, alpha0, t - h)
+    _, _, _, _, q2x, q2y = centres(cam, alpha0, t)
+    assert np.abs((ahead[2] - behind[2]) / (2 * h) - q2x).max() <= 1e-5 * np.abs(q2x).max()
+    assert np.abs((ahead[3] - behind[3]) / (2 * h) - q2y).max() <= 1e-5 * np.abs(q2y).max()
