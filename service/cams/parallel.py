@@ -1,6 +1,7 @@
 """``POST /v1/cams/parallel`` (``computeParallelIndexingCam``): a parallel indexing cam's plates,
 contacts and checks; the columns over the turn as CSV (the plates are JSON only: each has its own
-rows).
+rows); the plates' contours as DXF (a layer each) and the plates as solids (STEP, STL: give
+``solid``), written by the CAD kernel's process.
 """
 
 from __future__ import annotations
@@ -9,24 +10,51 @@ from typing import Any
 
 import numpy as np
 
-from camcore.cams.parallel import ParallelResult, make_parallel_cam, sample_parallel, trace_factor
+from camcore.cams.parallel import (
+    ParallelCam,
+    ParallelResult,
+    make_parallel_cam,
+    plate_contour,
+    sample_parallel,
+    trace_factor,
+)
+from camcore.errors import InvalidParameterError
+from camcore.export import PLATE_FORMATS, SOLID_FORMATS, ParallelPlatesSolid, PlateDrawing
 from camcore.results import as_dict
 from camcore.work import (
     PARALLEL_CONTACT_VALUES,
     PARALLEL_CONTACTS_PER_SAMPLE,
+    PARALLEL_FIT_ELEMENT_S,
+    PARALLEL_FIT_PIECE_S,
+    PARALLEL_FIT_PLATE_S,
     PARALLEL_PLATE_S,
     PARALLEL_PLATE_SAMPLE_S,
     PARALLEL_POINT_VALUES,
     PARALLEL_POINTS_PER_SAMPLE,
+    PARALLEL_STEP_ELEMENT_S,
+    PARALLEL_STEP_PLATE_S,
+    PARALLEL_STL_FACET_S,
+    PARALLEL_STL_PLATE_S,
     PLATE_ROLLER_SAMPLE_S,
     WorkEstimate,
     WorkTerm,
     encode_cost,
+    parallel_elements,
+    parallel_facets,
+    parallel_pieces,
     per_item_work,
 )
-from service.cams.parallel_specs import PARALLEL_EXAMPLES, ParallelCamAnswer, ParallelCamRequest
+from service.cams.parallel_specs import (
+    PARALLEL_EXAMPLES,
+    PARALLEL_SOLID_EXAMPLES,
+    PARALLEL_STL_EXAMPLES,
+    ParallelCamAnswer,
+    ParallelCamRequest,
+    ParallelSolidRequest,
+    ParallelSolidSpec,
+)
 from service.context import Context
-from service.operations import JSON, Document, Format, Operation, Table, csv
+from service.operations import JSON, Document, Format, Operation, Payload, Table, csv, download
 
 #: columns whose NaN means "no such contact" (null in JSON, an empty CSV cell)
 NULLABLE = ("drive_pressure_angle_deg", "hold_pressure_angle_deg")
@@ -34,33 +62,81 @@ NULLABLE = ("drive_pressure_angle_deg", "hold_pressure_angle_deg")
 TURN_COLUMNS = 6
 
 
-def plates_work(ctx: Context, body: ParallelCamRequest) -> WorkEstimate:
-    """The curve built and the plates traced (at ``trace_factor`` times the samples, at least 720
-    cam angles a turn)."""
+def plates_work(ctx: Context, body: ParallelCamRequest, plates: int | None = None,
+                at: tuple[str | int, ...] = ()) -> WorkEstimate:
+    """The curve built and ``plates`` plates (default all) traced, at ``trace_factor`` times the samples
+    (at least 720 cam angles a turn); ``at``: where the cam is in the request."""
+    n = body.plates if plates is None else plates
     m = body.rollers_per_plate or body.stops
     traced = body.samples * trace_factor(body.samples)
-    return ctx.curves.work(body.curve.core(), ("curve",)) + WorkEstimate((
-        WorkTerm(("plates",), f"tracing {body.plates} plates", body.plates * PARALLEL_PLATE_S),
-        WorkTerm(("samples",), f"walking {body.plates} plates × {traced} traced cam angles",
-                 body.plates * traced * PARALLEL_PLATE_SAMPLE_S))) + per_item_work(
-        body.plates * m * traced, PLATE_ROLLER_SAMPLE_S, ("samples",),
-        f"{body.plates} plates × {m} rollers × {traced} traced cam angles")
+    return ctx.curves.work(body.curve.core(), (*at, "curve")) + WorkEstimate((
+        WorkTerm((*at, "plates"), f"tracing {n} plates", n * PARALLEL_PLATE_S),
+        WorkTerm((*at, "samples"), f"walking {n} plates × {traced} traced cam angles",
+                 n * traced * PARALLEL_PLATE_SAMPLE_S))) + per_item_work(
+        n * m * traced, PLATE_ROLLER_SAMPLE_S, (*at, "samples"), f"{n} plates × {m} rollers × {traced} traced cam angles")
+
+
+def fit_plates_work(body: ParallelCamRequest, tolerance_mm: float, plates: int, field: tuple[str | int, ...]
+                    ) -> tuple[WorkEstimate, int, int]:
+    """Fitting ``plates`` plates' contours with lines and arcs within a tolerance, and the pieces and
+    elements of each, at most (camcore.work: parallel_pieces, parallel_elements)."""
+    pieces = parallel_pieces(body.rollers_per_plate or body.stops)
+    elements = parallel_elements(body.center_distance_mm, tolerance_mm, pieces)
+    seconds = plates * (PARALLEL_FIT_PLATE_S + pieces * PARALLEL_FIT_PIECE_S + elements * PARALLEL_FIT_ELEMENT_S)
+    return WorkEstimate((WorkTerm(field, f"fitting {plates} plates' contours, about {elements} lines and arcs each",
+                                  seconds),)), pieces, elements
+
+
+def _solid_spec(body: ParallelCamRequest, fmt: Format) -> ParallelSolidSpec:
+    if body.solid is None:
+        raise InvalidParameterError(f"format {fmt.name} is the plates as solids: give solid {{thickness_mm, "
+                                    "bore_diameter_mm}.", field=("solid",))
+    return body.solid
 
 
 def _work(ctx: Context, body: ParallelCamRequest, fmt: Format) -> WorkEstimate:
-    """The plates traced and the answer encoded (the contours' points and the contacts in JSON)."""
+    """The plates traced and the answer encoded (the contours' points and the contacts in JSON), or
+    written as DXF; a solid: the contours fitted (at half the tolerance for an STL) and the CAD kernel's
+    work (422 first when the body has no ``solid``)."""
     traced = body.samples * trace_factor(body.samples)
+    if fmt.name in SOLID_FORMATS:
+        solid = _solid_spec(body, fmt)
+        stl = fmt.name == "stl"
+        tolerance = solid.tolerance_mm / (2 if stl else 1)
+        fit, pieces, elements = fit_plates_work(body, tolerance, body.plates, ("solid", "tolerance_mm"))
+        if stl:
+            facets = parallel_facets(body.center_distance_mm, tolerance, pieces, elements, solid.bore_diameter_mm)
+            kernel = body.plates * (PARALLEL_STL_PLATE_S + facets * PARALLEL_STL_FACET_S)
+            what = f"meshing {body.plates} plates of about {facets} facets each"
+        else:
+            kernel = body.plates * (PARALLEL_STEP_PLATE_S + elements * PARALLEL_STEP_ELEMENT_S)
+            what = f"the STEP solids of {body.plates} plates, about {elements} edges each"
+        return plates_work(ctx, body) + fit + WorkEstimate((WorkTerm(("solid", "tolerance_mm"), what, kernel),))
+    if fmt.name in PLATE_FORMATS:
+        points = body.plates * PARALLEL_POINTS_PER_SAMPLE * traced
+        return plates_work(ctx, body) + WorkEstimate((WorkTerm(
+            ("samples",), f"writing about {points} points as {fmt.name}", PLATE_FORMATS[fmt.name].cost(points)),))
     values = body.plates * (PARALLEL_POINT_VALUES * PARALLEL_POINTS_PER_SAMPLE * traced
                             + PARALLEL_CONTACT_VALUES * PARALLEL_CONTACTS_PER_SAMPLE * body.samples)
     encoding = encode_cost(TURN_COLUMNS * body.samples + (values if fmt.name == "json" else 0), fmt.name == "csv")
     return plates_work(ctx, body) + WorkEstimate((WorkTerm(("samples",), "encoding the answer", encoding),))
 
 
+def parallel_cam(ctx: Context, body: ParallelCamRequest) -> ParallelCam:
+    """The cam of a request, its index law from the curve cache."""
+    return make_parallel_cam(body.stops, body.center_distance_mm, body.roller_pitch_radius_mm, body.roller_radius_mm,
+                             body.indexing_angle_deg, ctx.curves.curve(body.curve.core()), plates=body.plates,
+                             rollers_per_plate=body.rollers_per_plate)
+
+
 def parallel(ctx: Context, body: ParallelCamRequest) -> ParallelResult:
-    cam = make_parallel_cam(body.stops, body.center_distance_mm, body.roller_pitch_radius_mm, body.roller_radius_mm,
-                            body.indexing_angle_deg, ctx.curves.curve(body.curve.core()), plates=body.plates,
-                            rollers_per_plate=body.rollers_per_plate)
-    return sample_parallel(cam, body.samples)
+    return sample_parallel(parallel_cam(ctx, body), body.samples)
+
+
+def _warmup(ctx: Context, fmt: Format) -> None:
+    # the CAD kernel's process starts outside the request's budget (service/profiles/operations.py says why)
+    if fmt.name in SOLID_FORMATS:
+        ctx.cad.warm()
 
 
 def over_the_turn(r: ParallelResult) -> dict[str, Any]:
@@ -69,9 +145,20 @@ def over_the_turn(r: ParallelResult) -> dict[str, Any]:
             "drive_pressure_angle_deg": r.drive_pressure_angle_deg, "hold_pressure_angle_deg": r.hold_pressure_angle_deg}
 
 
-def _compute(ctx: Context, body: ParallelCamRequest, fmt: Format) -> Document | Table:
+def _compute(ctx: Context, body: ParallelCamRequest, fmt: Format) -> Document | Table | Payload:
     """JSON: the columns over the turn, the plates, the checks (NaN, no such contact, as null);
-    CSV: the columns (true/false as 1/0)."""
+    CSV: the columns (true/false as 1/0); DXF: the plates' contours; STEP, STL: the plates as solids."""
+    if fmt.name in SOLID_FORMATS or fmt.name in PLATE_FORMATS:
+        cam = parallel_cam(ctx, body)
+        traced = [plate_contour(cam, p, body.samples) for p in range(cam.plates)]
+        if fmt.name in PLATE_FORMATS:
+            drawing = PlateDrawing(tuple(pts.x for _, pts in traced), tuple(pts.y for _, pts in traced))
+            return Payload(PLATE_FORMATS[fmt.name].write(drawing))
+        solid = _solid_spec(body, fmt)
+        item = ParallelPlatesSolid(tuple(contour for contour, _ in traced), solid.thickness_mm, solid.bore_diameter_mm,
+                                   solid.spacing_mm, solid.tolerance_mm, ctx.settings.max_toolpath_elements,
+                                   ctx.settings.max_stl_triangles)
+        return Payload(ctx.cad.write(fmt.name, item))  # in the CAD kernel's process
     r = parallel(ctx, body)
     columns = over_the_turn(r)
     if fmt.name == "csv":
@@ -81,12 +168,18 @@ def _compute(ctx: Context, body: ParallelCamRequest, fmt: Format) -> Document | 
                     table=columns, allow_null=NULLABLE)
 
 
+SOLIDS = tuple(download(fmt) for fmt in SOLID_FORMATS.values())
+
 OPERATIONS = (
     Operation("computeParallelIndexingCam", "/v1/cams/parallel", "cams", "Parallel indexing cam",
-              "A parallel indexing cam: each plate's contour (what its rollers leave), which roller touches it where "
-              "and when, every contact over the turn, pressure angles and radii of curvature, and the checks (held "
-              "both ways at every cam angle, largest pressure angle, undercut, room for the turret's shaft); CSV: "
-              "the columns over the turn.",
-              ParallelCamRequest, _compute, estimate=_work, answer=ParallelCamAnswer,
-              formats=(JSON, csv("parallel-cam.csv", "the columns over the turn as CSV")), examples=PARALLEL_EXAMPLES),
+              "A parallel indexing cam: each plate's exact contour (the envelope of its rollers), which roller touches "
+              "it where and when, every contact over the turn, pressure angles and radii of curvature, and the checks "
+              "(held both ways at every cam angle, largest pressure angle, undercut, room for the turret's shaft); CSV: "
+              "the columns over the turn; DXF: the plates' contours, a layer each; STEP, STL: the plates as solids "
+              "(give `solid` in the body).",
+              ParallelCamRequest, _compute, estimate=_work, warmup=_warmup, answer=ParallelCamAnswer,
+              formats=(JSON, csv("parallel-cam.csv", "the columns over the turn as CSV"),
+                       *(download(fmt) for fmt in PLATE_FORMATS.values()), *SOLIDS),
+              examples=PARALLEL_EXAMPLES, format_requests={fmt.name: ParallelSolidRequest for fmt in SOLIDS},
+              format_examples={"step": PARALLEL_SOLID_EXAMPLES, "stl": PARALLEL_STL_EXAMPLES}),
 )

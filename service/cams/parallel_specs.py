@@ -10,8 +10,8 @@ from pydantic import Field, model_validator
 from camcore.cams.parallel import Contacts, ParallelChecks, PlateChecks, check_parallel_geometry
 from service.curves.specs import MS_SPEC, CurveSpec, NamedCurveSpec
 from service.models import answer_model
-from service.profiles.specs import PositiveLength
-from service.specs import JSON_INTEGER, DefaultsInDescriptions, FieldRuleError, Spec, examples
+from service.profiles.specs import PositiveLength, SolidSpec
+from service.specs import BIG, JSON_INTEGER, DefaultsInDescriptions, FieldRuleError, Spec, examples
 
 #: sampled cam angles per turn, at most: 0.1° (the cost model refuses the largest turrets sooner)
 MAX_PARALLEL_SAMPLES = 3601
@@ -24,6 +24,26 @@ PARALLEL_EXAMPLE: dict[str, object] = {
 TWO_PLATE_EXAMPLE: dict[str, object] = {**PARALLEL_EXAMPLE, "plates": 2}
 
 MULTIPLE_RULE = "rollers_per_plate must be a multiple of stops (each index moves every layer onto itself)"
+#: the plates as solids: 12 mm thick with a 20 mm bore, touching (the spacing is the thickness), within 0.01 mm
+PARALLEL_SOLID_EXAMPLE: dict[str, object] = {"thickness_mm": 12, "bore_diameter_mm": 20, "tolerance_mm": 0.01}
+
+
+class ParallelSolidSpec(SolidSpec):
+    """The plates as solids (``?format=step`` or ``stl``): each extruded along the cam axis and bored, plate p from
+    z = p·spacing_mm; one solid per plate, together in one file."""
+
+    model_config = examples(PARALLEL_SOLID_EXAMPLE)
+    spacing_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=BIG)] | None = Field(
+        None, description="the plates' pitch along the cam axis, from one plate's lower face to the next one's (their "
+                          "rollers' layers stand as far apart), at least thickness_mm; omitted: thickness_mm, the "
+                          "plates touching [mm]")
+
+    @model_validator(mode="after")
+    def _check(self) -> ParallelSolidSpec:
+        if self.spacing_mm is not None and self.spacing_mm < self.thickness_mm:
+            raise FieldRuleError(f"spacing_mm must be at least thickness_mm, {self.thickness_mm!r} mm: it is the plates' "
+                                 "pitch along the cam axis, face to face, and the plates would overlap", "spacing_mm")
+        return self
 
 
 class ParallelCamRequest(Spec):
@@ -52,6 +72,8 @@ class ParallelCamRequest(Spec):
     samples: Annotated[int, Field(ge=16, le=MAX_PARALLEL_SAMPLES), JSON_INTEGER] = Field(
         181, description="cam angles evenly over the turn (0 ≤ θ < 360°) at which contacts are found and the plates' "
                          "contours have a point (they are traced at no fewer than 720 a turn)")
+    solid: ParallelSolidSpec | None = Field(
+        None, description="the plates as solids for ?format=step or stl (needed there, unused otherwise)")
 
     @model_validator(mode="after")
     def _check(self) -> ParallelCamRequest:
@@ -63,6 +85,22 @@ class ParallelCamRequest(Spec):
                                 self.roller_radius_mm)
         return self
 
+
+class ParallelSolidRequest(ParallelCamRequest):
+    """A parallel cam request whose ``solid`` is required (its STEP and STL files)."""
+
+    model_config = examples({**PARALLEL_EXAMPLE, "solid": PARALLEL_SOLID_EXAMPLE})
+    solid: ParallelSolidSpec = Field(description="thickness, bore, spacing and tolerance of the plates' solids")
+
+
+PARALLEL_SOLID_EXAMPLES: dict[str, Example] = {
+    "three plates": {"summary": "the three plates, 12 mm thick with a 20 mm bore, touching, within 0.01 mm",
+                     "value": {**PARALLEL_EXAMPLE, "solid": PARALLEL_SOLID_EXAMPLE}}}
+#: an STL's facets are many more than a STEP's edges: a mesh to look at, within 0.05 mm
+PARALLEL_STL_EXAMPLES: dict[str, Example] = {
+    "three plates": {"summary": "the three plates, 12 mm thick with a 20 mm bore, 2 mm apart, facets within 0.05 mm",
+                     "value": {**PARALLEL_EXAMPLE, "solid": {**PARALLEL_SOLID_EXAMPLE, "tolerance_mm": 0.05,
+                                                             "spacing_mm": 14}}}}
 
 PARALLEL_EXAMPLES: dict[str, Example] = {
     "three plates": {"summary": "4 stops, 3 plates of 4 rollers, index 120° (MS): held both ways throughout",
