@@ -55,9 +55,11 @@ ACTIVE_SHARE = 1e-4
 #: limits whose value must stay at or below the limit (the others at or above)
 UPPER_LIMITS = ("max_pressure_angle_deg", "max_return_pressure_angle_deg", "allowed_stress_mpa")
 METHOD = ("the spring by its monotone root (the softest rate whose smallest preload fits); the base radius as the "
-          "largest of each limit's own root (Illinois, 1e-10); the offset and roller radius (and the spring rate "
-          "where it trades against the stress) by a coarse grid over the bounds, then shrinking local grids around "
-          "its best points on the lift sampled every 0.25°; the design found solved again exactly")
+          "largest of each limit's own root (Illinois, 1e-10); the offset and the roller radius by nested searches, "
+          "each a coarse grid that brackets its best point and golden section to 1e-5 of its range, on the lift "
+          "sampled every 0.25°; where the spring rate trades against the stress, the rate that presses least by "
+          "golden section (the stress is convex in it) and the softest that fits by its root; the design found "
+          "solved again exactly")
 
 
 class _Problem:
