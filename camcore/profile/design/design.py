@@ -245,8 +245,8 @@ def design_profile(problem: DesignProblem) -> ProfileDesign:
 
 
 def minimum(objective: Callable[[FloatArray], FloatArray], lo: FloatArray, hi: FloatArray) -> SearchOutcome:
-    """The search of :mod:`.search` for this many variables: nested one at a time up to two, a grid and
-    local grids for three (the spring rate joining the offset and the roller radius).
+    """The search of :mod:`.search` for this many variables: nested one at a time up to two (the offset and
+    the roller radius), a grid and local grids beyond.
 
     Parameters
     ----------

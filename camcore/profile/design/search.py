@@ -12,8 +12,8 @@ grows, the curvature limit's rises) and along the offset; unlike a grid over bot
 stall on the ridge where two limits trade (the minimum of a maximum of two functions lies on a curve
 that no grid direction follows).
 
-:func:`grid_minimum` (three variables, where the spring rate joins): a grid over the whole box that
-brackets the best region, then shrinking local grids around its best points.
+:func:`grid_minimum`: a grid over the whole box (the coarse screening of a 422's limits), optionally refined
+by shrinking local grids around its best points.
 
 Each round evaluates a local grid of :data:`LOCAL_POINTS` points per variable over a box around a
 start's best point and keeps the best point ever evaluated; the next box is that point ± one local
