@@ -52,6 +52,7 @@ from service.cams.parallel_specs import (
     ParallelCamRequest,
     ParallelSolidRequest,
     ParallelSolidSpec,
+    ParallelSolidStlRequest,
 )
 from service.context import Context
 from service.operations import JSON, Document, Format, Operation, Payload, Table, csv, download
@@ -180,6 +181,6 @@ OPERATIONS = (
               ParallelCamRequest, _compute, estimate=_work, warmup=_warmup, answer=ParallelCamAnswer,
               formats=(JSON, csv("parallel-cam.csv", "the columns over the turn as CSV"),
                        *(download(fmt) for fmt in PLATE_FORMATS.values()), *SOLIDS),
-              examples=PARALLEL_EXAMPLES, format_requests={fmt.name: ParallelSolidRequest for fmt in SOLIDS},
+              examples=PARALLEL_EXAMPLES, format_requests={"step": ParallelSolidRequest, "stl": ParallelSolidStlRequest},
               format_examples={"step": PARALLEL_SOLID_EXAMPLES, "stl": PARALLEL_STL_EXAMPLES}),
 )
