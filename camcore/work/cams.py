@@ -39,12 +39,13 @@ PARALLEL_CONTACT_VALUES = 4
 #: a parallel cam plate's contour fitted with lines and arcs (camcore.cams.parallel.fit, the plate
 #: cam's biarc fit on each piece of the exact contour): the largest of 2 runs (thread time) of 192
 #: fits, 4-36 stops, 4-72 rollers per plate, tolerances 1e-4 to 0.1 mm, the tool 0 or half the
-#: smallest concave radius: least squares 6 ms a plate + 18 ms a piece (each piece's ~230 exact
-#: evaluations of the measurement) + 0.26 ms an element; kept at 8 ms, 20 ms and 0.3 ms, ×1.5, the
-#: estimate stays above every run (at most 0.78 of it)
-PARALLEL_FIT_PLATE_S = 1.5 * 0.008
-PARALLEL_FIT_PIECE_S = 1.5 * 0.02
-PARALLEL_FIT_ELEMENT_S = 1.5 * 3e-4
+#: smallest concave radius, measured twice on a shared 2-core machine: least squares 0-6 ms a plate
+#: + 18-20 ms a piece (each piece's ~230 exact evaluations of the measurement) + 0.26-0.30 ms an
+#: element; kept at 10 ms, 25 ms and 0.35 ms, ×1.5, the estimate stays above every run (at most
+#: 0.80 of it)
+PARALLEL_FIT_PLATE_S = 1.5 * 0.01
+PARALLEL_FIT_PIECE_S = 1.5 * 0.025
+PARALLEL_FIT_ELEMENT_S = 1.5 * 3.5e-4
 #: the plates as solids in the CAD kernel (built, bored, written): STEP 0.06-0.26 s for 3 plates of
 #: 86-342 elements, STL 0.10-1.0 s for 4 000-49 000 facets; kept at 30 ms a plate + 0.6 ms an
 #: element (STEP), 40 ms a plate + 20 µs a facet (STL), ×1.5
