@@ -40,7 +40,7 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import partial
 
 import numpy as np
@@ -86,8 +86,7 @@ TORUS_FIT = 1e-10
 AZIMUTH_RATE = 0.05
 #: the most points across a patch (degree 23: OpenCASCADE takes degree 25 at most)
 MAX_ACROSS = 24
-#: the fewest points across a flank
-MIN_ACROSS = 4
+MIN_ACROSS = 4  # the fewest points across a flank
 #: the root's crossing is looked for along the roller up to this share of the way to where its axis
 #: meets the cam axis (r = C/cos α), where the contact's formula ends
 REACH = 0.999
@@ -97,8 +96,7 @@ REACH = 0.999
 INSIDE = 1e-13
 
 Band = str  # "forward", "back" (flanks), "top", "below", "above" (the tori)
-BANDS: tuple[Band, ...] = ("forward", "back", "top", "below", "above")
-TORI: tuple[Band, ...] = ("top", "below", "above")
+BANDS, TORI = ("forward", "back", "top", "below", "above"), ("top", "below", "above")
 
 
 @dataclass(frozen=True)
@@ -111,10 +109,7 @@ class Patch:
     u_knots: FloatArray  # [rad]
     u_mults: np.ndarray
     v_degree: int
-
-    @property
-    def u_degree(self) -> int:
-        return 3
+    u_degree: int = 3  # cubic Hermite along the cam angle
 
 
 @dataclass(frozen=True)
@@ -148,50 +143,56 @@ class _Rib:
     cam: RollerGearCam
     top_mm: float
     root_mm: float
+    #: each flank's crossings at the cam angles asked for before (the fit asks again for the same nodes)
+    known: dict[bytes, tuple[FloatArray, FloatArray]] = field(default_factory=dict, compare=False, repr=False)
 
     def turret(self, theta: FloatArray, side: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """φ, φ', φ'' at θ, moved by ``side``·INSIDE (+1 at a piece's start, −1 at its end, 0 inside)."""
         return turret_motion(self.cam.indexer, theta + side * INSIDE)
 
-    def crossing(self, flank: Flank, theta: FloatArray, side: FloatArray, radius_mm: float, root: bool
-                 ) -> tuple[FloatArray, FloatArray]:
-        """r where the flank crosses the torus d = radius at each θ, and dr/dθ (module notes): the
-        top's between the turret axis (r = 0: d ≤ Rr there) and the roller's middle, the root's between
-        its middle and where its axis reaches the cam axis, both by the bracketed Newton."""
+    def crossings(self, flank: Flank, theta: FloatArray, side: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """r where the flank crosses the rib's top and the body at each θ, shape (n, 2), and dr/dθ
+        (module notes): the top's between the turret axis (r = 0: d ≤ Rr there) and the roller's
+        middle, the root's between its middle and where its axis reaches the cam axis, all by one
+        bracketed Newton."""
+        key = flank.encode() + theta.tobytes() + side.tobytes()
+        if key in self.known:
+            return self.known[key]
         turret = self.turret(theta, side)
-        c = self.cam.center_distance_mm
+        c, n = self.cam.center_distance_mm, theta.size
         alpha = turret[0] - self.cam.behind_rad(flank)
+        radius = np.repeat([self.top_mm, self.root_mm], n)  # lanes: the top's at each θ, then the root's
+        at = np.tile(np.arange(n), 2)
 
-        def value_and_slope(r: FloatArray, which: np.ndarray) -> tuple[FloatArray, FloatArray]:
-            s = flank_state(self.cam, flank, theta[which], r[:, None], tuple(x[which] for x in turret))
+        def value_and_slope(r: FloatArray, lane: np.ndarray) -> tuple[FloatArray, FloatArray]:
+            s = flank_state(self.cam, flank, theta[at[lane]], r[:, None], tuple(x[at[lane]] for x in turret))
             gradient = distance_gradient(c, s.p[:, 0])
-            return torus_distance(c, s.p[:, 0]) - radius_mm, np.einsum("...i,...i->...", gradient, s.q_r[:, 0])
+            return torus_distance(c, s.p[:, 0]) - radius[lane], np.einsum("...i,...i->...", gradient, s.q_r[:, 0])
 
-        label = np.arange(theta.size)
+        lanes = np.arange(2 * n)
         # the crossings lie at the ends of the roller or beyond (at them in the dwell, to rounding), so
         # each bracket starts from the roller's middle
-        middle = np.full(theta.size, self.cam.roller_pitch_radius_mm)
-        lo = middle if root else np.zeros(theta.size)
-        hi = REACH * c / np.cos(alpha) if root else middle
-        (f_lo, _), (f_hi, _) = value_and_slope(lo, label), value_and_slope(hi, label)
+        middle = np.full(n, self.cam.roller_pitch_radius_mm)
+        lo, hi = np.concatenate([np.zeros(n), middle]), np.concatenate([middle, REACH * c / np.cos(alpha)])
+        (f_lo, _), (f_hi, _) = value_and_slope(lo, lanes), value_and_slope(hi, lanes)
         if not ((f_lo <= 0) & (f_hi >= 0)).all():
             raise GeometryError(
                 "The flanks do not reach the body: near the index's fastest point the pressure angle along the "
                 "rollers (checks.max_pressure_angle_along_roller_deg) turns the contact round them and off towards "
                 "the cam axis before it meets the body's surface; a longer indexing_angle_deg lowers it.",
                 field=("indexing_angle_deg",))
-        r = newton_roots(value_and_slope, lo, hi, f_lo, f_hi, label)
-        s = flank_state(self.cam, flank, theta, r[:, None], turret)
+        r = newton_roots(value_and_slope, lo, hi, f_lo, f_hi, lanes).reshape(2, n).T
+        s = flank_state(self.cam, flank, theta, r, turret)
         gradient = distance_gradient(c, s.p)
         slope = -np.einsum("...i,...i->...", gradient, s.q_theta) / np.einsum("...i,...i->...", gradient, s.q_r)
-        return r, slope[:, 0]
+        self.known[key] = (r, slope)
+        return r, slope
 
     def flank(self, flank: Flank, theta: FloatArray, side: FloatArray, across: FloatArray
               ) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Points (n, k, 3) and θ-derivatives of the flank between its crossings, at s = across,
         in the cam's frame, and the regularity there."""
-        top, dtop = self.crossing(flank, theta, side, self.top_mm, root=False)
-        root, droot = self.crossing(flank, theta, side, self.root_mm, root=True)
+        (top, root), (dtop, droot) = (x.T for x in self.crossings(flank, theta, side))
         r = top[:, None] + across[None, :] * (root - top)[:, None]
         dr = dtop[:, None] + across[None, :] * (droot - dtop)[:, None]
         s = flank_state(self.cam, flank, theta, r, self.turret(theta, side))
@@ -301,8 +302,7 @@ def _pieces(cam: RollerGearCam) -> list[_Piece]:
     return pieces
 
 
-#: θ nodes over the turn, at most, unless the caller says otherwise
-MAX_THETA_NODES = 20_000
+MAX_THETA_NODES = 20_000  # θ nodes over the turn, at most, unless the caller says otherwise
 #: how much an interval count grows at least and at most in one refinement: by the fourth root of
 #: the deviation over the target (the Hermite error goes as h⁴), 15 % more
 GROWTH = (1.25, 4.0)
