@@ -396,7 +396,7 @@ class _Resolver:
                 f"give the one you mean.", field=("curve", name))
         _, stroke, _, _ = trial(roots[0])
         with _at_segment(seg.index, "curve"):
-            curve = self.fresh(with_parameter(seg.law, name, roots[0]))  # type: ignore[arg-type]
+            curve = self.fresh(with_parameter(seg.law, name, roots[0]))
         seg.stroke = stroke
         self._check_stroke(seg, stroke)
         seg.curve = curve
