@@ -28,7 +28,7 @@ from ..cams.parallel.fit import fit_plate, relocated_limit
 from ..cams.parallel.trace import PlateContour
 from ..errors import InvalidParameterError, LimitExceededError
 from ..toolpath import CutterPath
-from .solid import MIN_THICKNESS_MM, _nearest_to_axis, _quiet_kernel, stl_triangles_estimate
+from .solid import MIN_THICKNESS_MM, _nearest_to_axis, _quiet_kernel, elements_wire, stl_triangles_estimate
 
 #: the name of the part a STEP file holds
 PRODUCT_NAME = "camcore parallel indexing cam"
@@ -164,14 +164,11 @@ def build_plates(solid: ParallelPlatesSolid, tolerance_mm: float | None = None) 
     from OCP.BRep import BRep_Builder
     from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
     from OCP.BRepBuilderAPI import (
-        BRepBuilderAPI_MakeEdge,
         BRepBuilderAPI_MakeFace,
-        BRepBuilderAPI_MakeWire,
         BRepBuilderAPI_Transform,
     )
     from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder, BRepPrimAPI_MakePrism
-    from OCP.GC import GC_MakeArcOfCircle, GC_MakeSegment
-    from OCP.gp import gp_Ax2, gp_Circ, gp_Dir, gp_Pnt, gp_Trsf, gp_Vec
+    from OCP.gp import gp_Ax2, gp_Dir, gp_Pnt, gp_Trsf, gp_Vec
     from OCP.TopoDS import TopoDS_Compound
 
     _quiet_kernel()
@@ -181,17 +178,7 @@ def build_plates(solid: ParallelPlatesSolid, tolerance_mm: float | None = None) 
     builder = BRep_Builder()
     builder.MakeCompound(compound)
     for p, path in enumerate(paths):
-        wire = BRepBuilderAPI_MakeWire()
-        for e in path.elements:
-            p0, p1 = gp_Pnt(e.start[0], e.start[1], 0.0), gp_Pnt(e.end[0], e.end[1], 0.0)
-            if e.centre is None:
-                curve = GC_MakeSegment(p0, p1).Value()
-            else:
-                circle = gp_Circ(gp_Ax2(gp_Pnt(e.centre[0], e.centre[1], 0.0), z_axis), e.radius_mm)
-                # an arc of a circle about +z runs counter-clockwise: a clockwise element from its end
-                curve = GC_MakeArcOfCircle(circle, p0, p1, True).Value() if e.ccw else \
-                    GC_MakeArcOfCircle(circle, p1, p0, True).Value()
-            wire.Add(BRepBuilderAPI_MakeEdge(curve).Edge())
+        wire = elements_wire(path.elements)
         if not wire.IsDone():
             raise InvalidParameterError(f"the kernel could not close plate {p}'s contour into a wire.",
                                         field=SOLID_FIELD)

@@ -28,7 +28,7 @@ import math
 import os
 import re
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol
 
@@ -200,25 +200,14 @@ def build_solid(solid: SolidCam, tolerance_mm: float | None = None) -> Any:
     BRepPrimAPI_MakePrism, BRepPrimAPI_MakeCylinder, BRepAlgoAPI_Cut.
     """
     from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
-    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeWire
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
     from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder, BRepPrimAPI_MakePrism
-    from OCP.GC import GC_MakeArcOfCircle, GC_MakeSegment
-    from OCP.gp import gp_Ax2, gp_Circ, gp_Dir, gp_Pnt, gp_Vec
+    from OCP.gp import gp_Ax2, gp_Dir, gp_Pnt, gp_Vec
 
     _quiet_kernel()
     path = _contour(solid, solid.tolerance_mm if tolerance_mm is None else tolerance_mm)
-    wire = BRepBuilderAPI_MakeWire()
     z_axis = gp_Dir(0.0, 0.0, 1.0)
-    for e in path.elements:
-        p0, p1 = gp_Pnt(e.start[0], e.start[1], 0.0), gp_Pnt(e.end[0], e.end[1], 0.0)
-        if e.centre is None:
-            curve = GC_MakeSegment(p0, p1).Value()
-        else:
-            circle = gp_Circ(gp_Ax2(gp_Pnt(e.centre[0], e.centre[1], 0.0), z_axis), e.radius_mm)
-            # an arc of a circle about +z runs counter-clockwise: a clockwise element from its end
-            curve = GC_MakeArcOfCircle(circle, p0, p1, True).Value() if e.ccw else \
-                GC_MakeArcOfCircle(circle, p1, p0, True).Value()
-        wire.Add(BRepBuilderAPI_MakeEdge(curve).Edge())
+    wire = elements_wire(path.elements)
     if not wire.IsDone():
         raise InvalidParameterError("the kernel could not close the contour into a wire.", field=("solid",))
     face = BRepBuilderAPI_MakeFace(wire.Wire(), True).Face()
@@ -231,6 +220,43 @@ def build_solid(solid: SolidCam, tolerance_mm: float | None = None) -> Any:
         cut.Build()
         shape = cut.Shape()
     return shape
+
+
+def elements_wire(elements: Sequence[Element]) -> Any:
+    """A contour's lines and arcs in the plane z = 0 as the kernel's wire (its builder: ``IsDone()``,
+    ``Wire()``).
+
+    Parameters
+    ----------
+    elements : sequence of Element
+        Lines and arcs end to end, in mm [mm].
+
+    Returns
+    -------
+    OCP.BRepBuilderAPI.BRepBuilderAPI_MakeWire
+        The wire's builder, every element added (an arc as an exact circle).
+
+    References
+    ----------
+    OCCT: GC_MakeSegment, GC_MakeArcOfCircle, BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeWire.
+    """
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeWire
+    from OCP.GC import GC_MakeArcOfCircle, GC_MakeSegment
+    from OCP.gp import gp_Ax2, gp_Circ, gp_Dir, gp_Pnt
+
+    z_axis = gp_Dir(0.0, 0.0, 1.0)
+    wire = BRepBuilderAPI_MakeWire()
+    for e in elements:
+        p0, p1 = gp_Pnt(e.start[0], e.start[1], 0.0), gp_Pnt(e.end[0], e.end[1], 0.0)
+        if e.centre is None:
+            curve = GC_MakeSegment(p0, p1).Value()
+        else:
+            circle = gp_Circ(gp_Ax2(gp_Pnt(e.centre[0], e.centre[1], 0.0), z_axis), e.radius_mm)
+            # an arc of a circle about +z runs counter-clockwise: a clockwise element from its end
+            curve = GC_MakeArcOfCircle(circle, p0, p1, True).Value() if e.ccw else \
+                GC_MakeArcOfCircle(circle, p1, p0, True).Value()
+        wire.Add(BRepBuilderAPI_MakeEdge(curve).Edge())
+    return wire
 
 
 def _through_file(suffix: str, write: Callable[[str], None]) -> bytes:
