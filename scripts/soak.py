@@ -40,6 +40,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import httpx
+
 from scripts.loadtest import PROFILE, Server, encoded, free_port, request_pool
 from scripts.rawhttp import Connection, encode_request
 
@@ -272,15 +274,24 @@ def run(seconds: float = 75.0, workers: int = 1, connections: int = 32, exporter
     server = _server_in(cwd, env, workers)
     try:
         server.wait_ready(60.0)
+        primed = prime_kernel(server.url)
         memory, tally = asyncio.run(soak(server.url, server.proc.pid, workers, seconds, connections, exporters,
                                          stallers, stall_s, seed))
         settled = {w: (rss_kib(w), sum(rss_kib(k) for k in descendants(w))) for w in memory.worker_kib}
         figures = report(memory, tally, seconds, settled)
+        figures["primed_solid_status"] = primed
         figures["settled_parts_mib"] = {f"{p} {process_name(p)[-40:]}": rss_parts_mib(p)
                                         for w in memory.worker_kib for p in (w, *descendants(w))}
         return figures
     finally:
         server.stop()
+
+
+def prime_kernel(url: str) -> int:
+    """Write one STEP solid before the soak so the CAD kernel's process is up (and its memory
+    counted) throughout: on one busy worker the exporters' own solids may all be refused busy
+    (503), as a CI run saw. The answer's status."""
+    return httpx.post(f"{url}/v1/profiles.step", json=SOLID_BODY, timeout=120).status_code
 
 
 def _server_in(cwd: Path | None, env: dict[str, str] | None, workers: int) -> Server:

@@ -27,8 +27,12 @@ def test_one_worker_stays_under_the_stated_ceiling() -> None:
     figures = run(seconds=seconds)
     (peak,) = figures["worker_with_children_peak_mib"].values()
     assert figures["unexpected"] == {}, figures
-    # the traffic happened: answers of each kind, solids among them, stalled downloads held
+    # the traffic happened: a solid written before it (the kernel process is up through the soak),
+    # answers of each kind, solids asked for throughout (on one busy worker they may all meet a 503:
+    # a CI run had none answered), stalled downloads held
+    assert figures["primed_solid_status"] == 200, figures
     statuses = figures["statuses"]
-    assert statuses.get("step 200", 0) and statuses.get("stl 200", 0) and statuses.get("table 200", 0), statuses
+    assert statuses.get("table 200", 0), statuses
+    assert sum(count for key, count in statuses.items() if key.split()[0] in ("step", "stl")) > 0, statuses
     assert figures["stalls"] > 0 and figures["child_processes_seen"] >= 1, figures
     assert peak <= CEILING_MIB, figures
