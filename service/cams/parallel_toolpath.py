@@ -10,21 +10,31 @@ milling with M3), the answer and the files those of ``POST /v1/profiles/toolpath
 from __future__ import annotations
 
 import math
-from typing import Annotated, Literal
+from typing import Annotated
 
 from fastapi.openapi.models import Example
 from pydantic import Field, model_validator
 
 from camcore.cams.parallel import plate_contour
 from camcore.cams.parallel.fit import concave_radius, fit_plate
-from camcore.export import TOOLPATH_FORMATS, ToolpathFile
+from camcore.export import TOOLPATH_FORMATS
 from camcore.toolpath import Toolpath
 from camcore.work import ELEMENT_VALUES, WorkEstimate, WorkTerm, encode_cost
-from service.cams.parallel import fit_plates_work, parallel_cam, plates_work
+from camcore.work.parallel import fit_work
+from service.cams.parallel import parallel_cam, plates_work
 from service.cams.parallel_specs import PARALLEL_EXAMPLE, ParallelCamRequest
 from service.context import Context
 from service.operations import JSON, Format, Operation, Payload, Raw, download
-from service.profiles.toolpath import ToolpathAnswer, toolpath_answer
+from service.profiles.toolpath import (
+    CutHeight,
+    FeedRate,
+    PathTolerance,
+    SafeHeight,
+    ToolpathAnswer,
+    ToolpathFormat,
+    check_heights,
+    toolpath_reply,
+)
 from service.specs import BIG, JSON_INTEGER, FieldRuleError, Spec, examples, rule
 
 PLATE_RULE = "plate must be below cam.plates (plates are numbered from 0)"
@@ -44,27 +54,19 @@ class ParallelToolpathRequest(Spec):
     tool_radius_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=BIG)] = Field(
         description="radius of the cutter, at most the plate's smallest concave radius (the rollers' radius at the "
                     "least) [mm]")
-    tolerance_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-4, le=10)] = Field(
-        0.01, description="largest deviation of the lines and arcs from the exact cutter-centre path, measured both "
-                          "ways [mm]")
-    feed_mm_min: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=BIG)] = Field(
-        300.0, description="cutting feed of the G-code [mm/min]")
-    safe_z_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BIG)] = Field(
-        5.0, description="height of the G-code's rapid moves [mm]")
-    cut_z_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BIG)] = Field(
-        0.0, description="cutting depth of the G-code, below safe_z_mm [mm]")
+    tolerance_mm: PathTolerance = 0.01
+    feed_mm_min: FeedRate = 300.0
+    safe_z_mm: SafeHeight = 5.0
+    cut_z_mm: CutHeight = 0.0
     lead_in_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, le=BIG)] | None = Field(
         None, description="length of the straight lead-in along the normal [mm]; omitted: the tool radius")
-    format: Literal[("json", *TOOLPATH_FORMATS)] = Field(  # type: ignore[valid-type]  # built from the registry
-        "json", description="json: the elements; " + "; ".join(f"{f.name}: {f.description}"
-                                                               for f in TOOLPATH_FORMATS.values()))
+    format: ToolpathFormat = "json"
 
     @model_validator(mode="after")
     def _check(self) -> ParallelToolpathRequest:
         if self.plate >= self.cam.plates:
             raise FieldRuleError(f"{PLATE_RULE}: plate {self.plate} of {self.cam.plates}", "plate")
-        if self.cut_z_mm >= self.safe_z_mm:
-            raise FieldRuleError("cut_z_mm must be below safe_z_mm (the rapid moves run above the cut)", "cut_z_mm")
+        check_heights(self.safe_z_mm, self.cut_z_mm)
         return self
 
 
@@ -82,7 +84,8 @@ PARALLEL_TOOLPATH_EXAMPLES: dict[str, Example] = {
 
 def _work(ctx: Context, body: ParallelToolpathRequest, fmt: Format) -> WorkEstimate:
     """The plate traced, its path fitted and the answer written."""
-    fit, pieces, elements = fit_plates_work(body.cam, body.tolerance_mm, 1, ("tolerance_mm",))
+    fit, pieces, elements = fit_work(body.cam.center_distance_mm, body.cam.rollers_per_plate or body.cam.stops,
+                                     body.tolerance_mm, 1, ("tolerance_mm",))
     count = elements + pieces  # and an arc round each corner
     seconds = TOOLPATH_FORMATS[fmt.name].cost(count) if fmt.name in TOOLPATH_FORMATS else \
         encode_cost(count * ELEMENT_VALUES, False)
@@ -101,11 +104,8 @@ def plate_toolpath(ctx: Context, body: ParallelToolpathRequest) -> Toolpath:
 
 def _compute(ctx: Context, body: ParallelToolpathRequest, fmt: Format) -> Raw | Payload:
     """The JSON answer, or the path written in one of :data:`camcore.export.TOOLPATH_FORMATS`."""
-    tp = plate_toolpath(ctx, body)
-    if fmt.name in TOOLPATH_FORMATS:
-        item = ToolpathFile(tp, body.feed_mm_min, body.safe_z_mm, body.cut_z_mm, body.lead_in_mm)
-        return Payload(TOOLPATH_FORMATS[fmt.name].write(item))
-    return Raw(toolpath_answer(tp))
+    return toolpath_reply(plate_toolpath(ctx, body), fmt, body.feed_mm_min, body.safe_z_mm, body.cut_z_mm,
+                          body.lead_in_mm)
 
 
 OPERATIONS = (

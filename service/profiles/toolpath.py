@@ -26,6 +26,26 @@ ROLLER = {"properties": {"follower": {"required": ["type"], "properties": {"type
           "required": ["follower"]}
 
 
+#: the fields a plate's cutter path shares (the plate cam's and the parallel cam's plates)
+PathTolerance = Annotated[float, Field(
+    strict=True, allow_inf_nan=False, ge=1e-4, le=10,
+    description="largest deviation of the lines and arcs from the exact cutter-centre path, measured both ways [mm]")]
+FeedRate = Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=BIG,
+                                  description="cutting feed of the G-code [mm/min]")]
+SafeHeight = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BIG,
+                                    description="height of the G-code's rapid moves [mm]")]
+CutHeight = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BIG,
+                                   description="cutting depth of the G-code, below safe_z_mm [mm]")]
+ToolpathFormat = Annotated[Literal[("json", *TOOLPATH_FORMATS)], Field(  # type: ignore[valid-type]  # from the registry
+    description="json: the elements; " + "; ".join(f"{f.name}: {f.description}" for f in TOOLPATH_FORMATS.values()))]
+
+
+def check_heights(safe_z_mm: float, cut_z_mm: float) -> None:
+    """The G-code's cut below its rapid moves (422 at cut_z_mm)."""
+    if cut_z_mm >= safe_z_mm:
+        raise FieldRuleError("cut_z_mm must be below safe_z_mm (the rapid moves run above the cut)", "cut_z_mm")
+
+
 class ToolpathRequest(Spec):
     """A cam, a tool and a tolerance: the path its centre runs, fitted with lines and arcs."""
 
@@ -36,9 +56,7 @@ class ToolpathRequest(Spec):
     profile: ProfileSpec
     tool_radius_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=BIG)] = Field(
         description="radius of the cutter [mm]")
-    tolerance_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=1e-4, le=10)] = Field(
-        0.01, description="largest deviation of the lines and arcs from the exact cutter-centre path, measured both "
-                          "ways [mm]")
+    tolerance_mm: PathTolerance = 0.01
     side: Literal["outside", "inside", "groove"] = Field(
         "outside", description="outside: the tool outside the cam surface (a plate cam); inside: inside a roller "
                                "track's outer wall (or inside the surface of a knife-edge or flat-faced cam: a "
@@ -46,25 +64,19 @@ class ToolpathRequest(Spec):
     allow_gouge: bool = Field(False, description="follow the exact offset where the tool is larger than a concave "
                                                  "radius it must follow (the tool cuts into the wall) instead of "
                                                  "refusing (422)")
-    feed_mm_min: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=BIG)] = Field(
-        300.0, description="cutting feed of the G-code [mm/min]")
-    safe_z_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BIG)] = Field(
-        5.0, description="height of the G-code's rapid moves [mm]")
-    cut_z_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-BIG, le=BIG)] = Field(
-        0.0, description="cutting depth of the G-code, below safe_z_mm [mm]")
+    feed_mm_min: FeedRate = 300.0
+    safe_z_mm: SafeHeight = 5.0
+    cut_z_mm: CutHeight = 0.0
     lead_in_mm: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, le=BIG)] | None = Field(
         None, description="length of the straight lead-in along the normal [mm]; omitted: the tool radius (in a "
                           "roller's track: to its centre line, roller radius − tool radius)")
-    format: Literal[("json", *TOOLPATH_FORMATS)] = Field(  # type: ignore[valid-type]  # built from the registry
-        "json", description="json: the elements; " + "; ".join(f"{f.name}: {f.description}"
-                                                               for f in TOOLPATH_FORMATS.values()))
+    format: ToolpathFormat = "json"
 
     @model_validator(mode="after")
     def _check(self) -> ToolpathRequest:
         if self.side == "groove" and self.profile.follower.type != "roller":
             raise FieldRuleError("a groove is the track of a roller: give a roller follower", "side")
-        if self.cut_z_mm >= self.safe_z_mm:
-            raise FieldRuleError("cut_z_mm must be below safe_z_mm (the rapid moves run above the cut)", "cut_z_mm")
+        check_heights(self.safe_z_mm, self.cut_z_mm)
         return self
 
 
@@ -150,10 +162,14 @@ def toolpath(ctx: Context, body: ToolpathRequest) -> Toolpath:
 
 def _compute(ctx: Context, body: ToolpathRequest, fmt: Format) -> Raw | Payload:
     """The JSON answer, or the paths written in one of :data:`camcore.export.TOOLPATH_FORMATS`."""
-    tp = toolpath(ctx, body)
+    return toolpath_reply(toolpath(ctx, body), fmt, body.feed_mm_min, body.safe_z_mm, body.cut_z_mm, body.lead_in_mm)
+
+
+def toolpath_reply(tp: Toolpath, fmt: Format, feed_mm_min: float, safe_z_mm: float, cut_z_mm: float,
+                   lead_in_mm: float | None) -> Raw | Payload:
+    """A plate's paths as the JSON answer, or written in one of :data:`camcore.export.TOOLPATH_FORMATS`."""
     if fmt.name in TOOLPATH_FORMATS:
-        item = ToolpathFile(tp, body.feed_mm_min, body.safe_z_mm, body.cut_z_mm, body.lead_in_mm)
-        return Payload(TOOLPATH_FORMATS[fmt.name].write(item))
+        return Payload(TOOLPATH_FORMATS[fmt.name].write(ToolpathFile(tp, feed_mm_min, safe_z_mm, cut_z_mm, lead_in_mm)))
     return Raw(toolpath_answer(tp))
 
 
