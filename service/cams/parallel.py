@@ -21,29 +21,8 @@ from camcore.cams.parallel import (
 from camcore.errors import InvalidParameterError
 from camcore.export import PLATE_FORMATS, SOLID_FORMATS, ParallelPlatesSolid, PlateDrawing
 from camcore.results import as_dict
-from camcore.work import (
-    PARALLEL_CONTACT_VALUES,
-    PARALLEL_CONTACTS_PER_SAMPLE,
-    PARALLEL_FIT_ELEMENT_S,
-    PARALLEL_FIT_PIECE_S,
-    PARALLEL_FIT_PLATE_S,
-    PARALLEL_PLATE_S,
-    PARALLEL_PLATE_SAMPLE_S,
-    PARALLEL_POINT_VALUES,
-    PARALLEL_POINTS_PER_SAMPLE,
-    PARALLEL_STEP_ELEMENT_S,
-    PARALLEL_STEP_PLATE_S,
-    PARALLEL_STL_FACET_S,
-    PARALLEL_STL_PLATE_S,
-    PLATE_ROLLER_SAMPLE_S,
-    WorkEstimate,
-    WorkTerm,
-    encode_cost,
-    parallel_elements,
-    parallel_facets,
-    parallel_pieces,
-    per_item_work,
-)
+from camcore.work import WorkEstimate, WorkTerm, encode_cost
+from camcore.work.parallel import answer_values, contour_points, solid_work, trace_work
 from service.cams.parallel_specs import (
     PARALLEL_EXAMPLES,
     PARALLEL_SOLID_EXAMPLES,
@@ -67,25 +46,9 @@ def plates_work(ctx: Context, body: ParallelCamRequest, plates: int | None = Non
                 at: tuple[str | int, ...] = ()) -> WorkEstimate:
     """The curve built and ``plates`` plates (default all) traced, at ``trace_factor`` times the samples
     (at least 720 cam angles a turn); ``at``: where the cam is in the request."""
-    n = body.plates if plates is None else plates
-    m = body.rollers_per_plate or body.stops
     traced = body.samples * trace_factor(body.samples)
-    return ctx.curves.work(body.curve.core(), (*at, "curve")) + WorkEstimate((
-        WorkTerm((*at, "plates"), f"tracing {n} plates", n * PARALLEL_PLATE_S),
-        WorkTerm((*at, "samples"), f"walking {n} plates × {traced} traced cam angles",
-                 n * traced * PARALLEL_PLATE_SAMPLE_S))) + per_item_work(
-        n * m * traced, PLATE_ROLLER_SAMPLE_S, (*at, "samples"), f"{n} plates × {m} rollers × {traced} traced cam angles")
-
-
-def fit_plates_work(body: ParallelCamRequest, tolerance_mm: float, plates: int, field: tuple[str | int, ...]
-                    ) -> tuple[WorkEstimate, int, int]:
-    """Fitting ``plates`` plates' contours with lines and arcs within a tolerance, and the pieces and
-    elements of each, at most (camcore.work: parallel_pieces, parallel_elements)."""
-    pieces = parallel_pieces(body.rollers_per_plate or body.stops)
-    elements = parallel_elements(body.center_distance_mm, tolerance_mm, pieces)
-    seconds = plates * (PARALLEL_FIT_PLATE_S + pieces * PARALLEL_FIT_PIECE_S + elements * PARALLEL_FIT_ELEMENT_S)
-    return WorkEstimate((WorkTerm(field, f"fitting {plates} plates' contours, about {elements} lines and arcs each",
-                                  seconds),)), pieces, elements
+    return ctx.curves.work(body.curve.core(), (*at, "curve")) + trace_work(
+        body.plates if plates is None else plates, body.rollers_per_plate or body.stops, traced, at)
 
 
 def _solid_spec(body: ParallelCamRequest, fmt: Format) -> ParallelSolidSpec:
@@ -102,24 +65,15 @@ def _work(ctx: Context, body: ParallelCamRequest, fmt: Format) -> WorkEstimate:
     traced = body.samples * trace_factor(body.samples)
     if fmt.name in SOLID_FORMATS:
         solid = _solid_spec(body, fmt)
-        stl = fmt.name == "stl"
-        tolerance = solid.tolerance_mm / (2 if stl else 1)
-        fit, pieces, elements = fit_plates_work(body, tolerance, body.plates, ("solid", "tolerance_mm"))
-        if stl:
-            facets = parallel_facets(body.center_distance_mm, tolerance, pieces, elements, solid.bore_diameter_mm)
-            kernel = body.plates * (PARALLEL_STL_PLATE_S + facets * PARALLEL_STL_FACET_S)
-            what = f"meshing {body.plates} plates of about {facets} facets each"
-        else:
-            kernel = body.plates * (PARALLEL_STEP_PLATE_S + elements * PARALLEL_STEP_ELEMENT_S)
-            what = f"the STEP solids of {body.plates} plates, about {elements} edges each"
-        return plates_work(ctx, body) + fit + WorkEstimate((WorkTerm(("solid", "tolerance_mm"), what, kernel),))
+        return plates_work(ctx, body) + solid_work(body.center_distance_mm, body.rollers_per_plate or body.stops,
+                                                   body.plates, solid.tolerance_mm, solid.bore_diameter_mm,
+                                                   fmt.name == "stl", ("solid", "tolerance_mm"))
     if fmt.name in PLATE_FORMATS:
-        points = body.plates * PARALLEL_POINTS_PER_SAMPLE * traced
+        points = contour_points(body.plates, traced)
         return plates_work(ctx, body) + WorkEstimate((WorkTerm(
             ("samples",), f"writing about {points} points as {fmt.name}", PLATE_FORMATS[fmt.name].cost(points)),))
-    values = body.plates * (PARALLEL_POINT_VALUES * PARALLEL_POINTS_PER_SAMPLE * traced
-                            + PARALLEL_CONTACT_VALUES * PARALLEL_CONTACTS_PER_SAMPLE * body.samples)
-    encoding = encode_cost(TURN_COLUMNS * body.samples + (values if fmt.name == "json" else 0), fmt.name == "csv")
+    values = answer_values(body.plates, body.samples, traced) if fmt.name == "json" else 0
+    encoding = encode_cost(TURN_COLUMNS * body.samples + values, fmt.name == "csv")
     return plates_work(ctx, body) + WorkEstimate((WorkTerm(("samples",), "encoding the answer", encoding),))
 
 
