@@ -258,6 +258,9 @@ def follower_dynamics(spec: CamSpec, load: FollowerLoad, speed_rpm: float, sampl
     _check_inputs(spec, load, roller)
     follower = LoadedFollower(spec, load, margin, roller)
     omega = 2.0 * math.pi * speed_rpm / 60.0
+    if not math.isfinite(TWO_PI / omega):  # the time column: a subnormal ω's reciprocal overflows
+        raise InvalidParameterError(f"speed_rpm={speed_rpm!r} is too slow: one turn would last longer than the "
+                                    "largest number of seconds a double holds.", field=("speed_rpm",))
     grid = check_grid(spec)
     if roller is not None:
         radius = roller_contact_radius_mm(follower.model.roller_radius_mm, follower.state(grid).kappa)
