@@ -30,8 +30,14 @@ lint: $(VENV)/.installed
 	$(VENV)/bin/ruff check camcore service
 	$(VENV)/bin/mypy camcore service
 
+# the tests that time or weigh the machine (bench ratios, load with wrk, the memory soak, the image's
+# pod) run alone; everything else first on both cores. Both parts run; either failing fails the target.
+ALONE_TESTS := bench or wrk or soak or image
+
 test: test-tools $(VENV)/.installed lint
-	$(PY) -m pytest
+	PYTHONDONTWRITEBYTECODE= $(PY) -m pytest -n 2 --dist worksteal -m "not ($(ALONE_TESTS))"; shared=$$?; \
+	$(PY) -m pytest -m "$(ALONE_TESTS)"; alone=$$?; \
+	test $$shared -eq 0 -a $$alone -eq 0
 
 # on both cores (pytest-xdist, an idle worker taking tests queued for the other); the fuzz module is not even collected (every test of it is fuzz, and
 # reading the document into schemathesis is seconds of each worker's start); pytest keeps the test
