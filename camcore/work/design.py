@@ -39,6 +39,13 @@ MARGINS_FLAT = 20
 #: ×1.5
 MARGIN_CLOSED_FORM_S = 1.5 * 4.5e-5
 MARGIN_ARM_S = 1.5 * 1.1e-4
+#: an arm whose pivot is searched too: many of its candidates lie by the edge where no base radius meets
+#: the pressure limit, and their roots are sought a lane or two at a time (the golden section for the window
+#: that meets it, then Illinois), so each evaluation carries its call's own cost: measured 17.3-20.1
+#: evaluations a candidate and 250 µs each (the pivot example, pivots over 10-400 mm, limits of 20° and 30°,
+#: a knife-edge); kept at 24 and ×1.5 of 260 µs
+MARGINS_ARM_PLACED = 24
+MARGIN_ARM_PLACED_S = 1.5 * 2.6e-4
 MARGIN_FLAT_S = 1.5 * 5e-4
 #: exact runs over the turn in the final solves, measured: a limit's own radius 15-20 runs of the checks
 #: (size_base_circle's CHECKS_PER_LIMIT); the spring's root up to 40 runs of its preload, each about a
@@ -117,7 +124,8 @@ def design_work(laws: Sequence[LawCost | None], *, searched: int, kind: str, roo
     searched : int
         Variables the search moves (offset, roller radius) [-].
     kind : str
-        ``closed_form`` (a translating knife-edge or roller), ``arm`` (an oscillating one) or ``flat``.
+        ``closed_form`` (a translating knife-edge or roller), ``arm`` (an oscillating one), ``placed_arm`` (an
+        oscillating one whose pivot is searched) or ``flat``.
     roots : bool
         A limit besides the pressure angle can decide the base radius (curvature).
     pressure_limits : int
@@ -142,7 +150,8 @@ def design_work(laws: Sequence[LawCost | None], *, searched: int, kind: str, roo
     """
     candidates = search_candidates(searched, trades)
     per, margin_s = {"closed_form": (MARGINS_GEOMETRY if roots else 1, MARGIN_CLOSED_FORM_S),
-                     "arm": (MARGINS_ARM, MARGIN_ARM_S), "flat": (MARGINS_FLAT, MARGIN_FLAT_S)}[kind]
+                     "arm": (MARGINS_ARM, MARGIN_ARM_S), "placed_arm": (MARGINS_ARM_PLACED, MARGIN_ARM_PLACED_S),
+                     "flat": (MARGINS_FLAT, MARGIN_FLAT_S)}[kind]
     per += (MARGINS_STRESS_TRADED if trades else MARGINS_STRESS) if stress else 0
     limits = pressure_limits + int(curvature) + int(stress)
     # the 422's best values, when none is feasible: a coarse grid per limit and one search more, one

@@ -1,5 +1,5 @@
 """``POST /v1/profiles/design`` (``designProfile``): the smallest plate cam that works — the base radius,
-offset, roller radius and spring the user frees, within their bounds (camcore.profile.design does the
+offset (or an arm's pivot), roller radius and spring the user frees, within their bounds (camcore.profile.design does the
 work; the designed cam's profile is computeProfile's)."""
 
 from __future__ import annotations
@@ -37,8 +37,9 @@ def _work(ctx: Context, body: ProfileDesignRequest, fmt: Format) -> WorkEstimate
     free = body.free.core()
     follower = body.follower
     translating = follower.motion == "translating"
-    searched = [name for name in ("offset_mm", "roller_radius_mm") if name in free and free[name][0] < free[name][1]
-                and not (name == "offset_mm" and (not translating or follower.type == "flat-faced"))]
+    place = "offset_mm" if translating else "pivot_distance_mm"
+    searched = [name for name in (place, "roller_radius_mm") if name in free and free[name][0] < free[name][1]
+                and not (name == "offset_mm" and follower.type == "flat-faced")]
     limits = body.limits
     rate, preload = (("spring_rate_nm_rad", "preload_nm") if not translating else ("spring_rate_n_mm", "preload_n"))
     load = body.load() is not None
@@ -51,7 +52,8 @@ def _work(ctx: Context, body: ProfileDesignRequest, fmt: Format) -> WorkEstimate
                             is not None)))
     curvature = (limits.min_radius_of_curvature_mm is not None
                  or limits.min_radius_of_curvature_roller_multiple is not None or follower.type != "knife-edge")
-    kind = "flat" if follower.type == "flat-faced" else "closed_form" if translating else "arm"
+    kind = ("flat" if follower.type == "flat-faced" else "closed_form" if translating
+            else "placed_arm" if place in searched else "arm")
     field = schedule_field(body.template)
     work += design_work(costs, searched=len(searched), kind=kind, roots=curvature, pressure_limits=pressure_limits,
                         own_solves=not translating or pressure_limits == 2, curvature=curvature, stress=stress,
@@ -85,6 +87,8 @@ def designed_profile(body: ProfileDesignRequest, result: ProfileDesign) -> Profi
     values = result.design
     follower = body.follower.model_copy(update={
         "offset_mm": values.offset_mm if values.offset_mm is not None else body.follower.offset_mm,
+        "pivot_distance_mm": values.pivot_distance_mm if values.pivot_distance_mm is not None
+        else body.follower.pivot_distance_mm,
         "roller_radius_mm": values.roller_radius_mm if values.roller_radius_mm is not None
         else body.follower.roller_radius_mm})
     return ProfileSpec(follower=FollowerSpec.model_validate(follower.model_dump()), base_radius_mm=values.base_radius_mm,
@@ -108,7 +112,7 @@ def _compute(ctx: Context, body: ProfileDesignRequest, fmt: Format) -> Document:
 
 OPERATIONS = (
     Operation("designProfile", "/v1/profiles/design", "profiles", "Plate cam design: the smallest cam that works",
-              "The base radius, offset, roller radius, spring rate and preload (those given in `free`, within their "
+              "The base radius, offset (an arm's pivot distance), roller radius, spring rate and preload (those given in `free`, within their "
               "bounds) of the smallest plate cam meeting the pressure-angle, curvature, contact-stress and "
               "contact-force limits at the worst speed of the range, then the softest spring and the smallest "
               "preload; every limit at the design (value, limit, margin, active), the designed cam's profile "

@@ -100,10 +100,11 @@ class FreeSpec(Spec):
     spring_rate_nm_rad: PositiveBounds | None = Field(
         None, description="oscillating followers with inertia_kgm2 [N·m/rad]")
     preload_nm: Bounds | None = Field(None, description="oscillating followers with inertia_kgm2 [N·m]")
-    pivot_distance_mm: Bounds | None = Field(
-        None, description="not searched, refused: the arm's assembly bounds the base radius from above, so the "
-                          "monotone base-radius solve would not hold; give it in follower")
-    arm_length_mm: Bounds | None = Field(None, description="not searched, refused (as pivot_distance_mm)")
+    pivot_distance_mm: PositiveBounds | None = Field(
+        None, description="oscillating followers: the distance from the cam's centre to the arm's pivot (the "
+                          "follower's own value is then not used) [mm]")
+    arm_length_mm: Bounds | None = Field(None, description="not searched, refused: the machine's linkage sets the arm; "
+                                                           "give it in follower and free pivot_distance_mm")
 
     def core(self) -> dict[str, tuple[float, float]]:
         return {name: (float(value[0]), float(value[1])) for name, value in self.model_dump().items()
@@ -120,8 +121,8 @@ OFFSET_RULE = "free.offset_mm is a translating knife-edge or roller follower's (
 ROLLER_RADIUS_RULE = "free.roller_radius_mm needs a roller follower"
 SPRING_UNITS_RULE = ("a translating follower's spring is free.spring_rate_n_mm and free.preload_n, an oscillating one's "
                      "free.spring_rate_nm_rad and free.preload_nm")
-NOT_SEARCHED_RULE = ("free.pivot_distance_mm and free.arm_length_mm are not searched (the arm's assembly bounds the base "
-                     "radius from above): give them in follower")
+NOT_SEARCHED_RULE = ("free.arm_length_mm is not searched (the machine's linkage sets the arm): give it in follower, and "
+                     "free pivot_distance_mm to place the arm")
 NO_MASS_RULE = ("a spring (its rate, its preload or their bounds in free), allowed_stress_mpa and safety_margin_n need the "
                 "follower's mass_kg (inertia_kgm2 for an oscillating one)")
 SPRING_RULE = "the follower's mass needs a spring: give spring_rate_n_mm (spring_rate_nm_rad) or free it"
@@ -133,7 +134,7 @@ MOTION_RULE = ("a follower's fields are of its motion: a translating one's load 
                "external_force_n, damping_n_s_mm, its free spring free.spring_rate_n_mm and free.preload_n, its lift in mm, "
                "and it may free offset_mm unless it is flat-faced; an oscillating one's load is inertia_kgm2, "
                "spring_rate_nm_rad, preload_nm, external_torque_nm, damping_nm_s_rad, its free spring "
-               "free.spring_rate_nm_rad and free.preload_nm, its swing in deg, and it has no offset")
+               "free.spring_rate_nm_rad and free.preload_nm, its swing in deg, and it has no offset (it may free pivot_distance_mm)")
 #: the rules the validator says that the document does not state (the request's description lists them)
 VALIDATOR_RULES = (SPEED_RULE, BASE_RADIUS_RULE, ROLLER_RADIUS_RULE, NOT_SEARCHED_RULE, NO_MASS_RULE, SPRING_RULE,
                    STRESS_ROLLER_RULE, ROLLER_LIMITS_RULE, DESIGN_ROLLER_RULE)
@@ -152,7 +153,7 @@ DESIGN_RULES = [
          exactly_one("segments", "lift", "motion")),
     rule(MOTION_RULE, {
         "if": {"properties": {"follower": TRANSLATING}},
-        "then": all_of(absent(*OSCILLATING_FIELDS), _free("spring_rate_nm_rad", "preload_nm"),
+        "then": all_of(absent(*OSCILLATING_FIELDS), _free("spring_rate_nm_rad", "preload_nm", "pivot_distance_mm"),
                        {"properties": {"motion": {"properties": {"unit": {"const": "mm"}}}}},
                        _in_segments(absent("swing_deg")),
                        {"if": {"properties": {"follower": {"not": NOT_FLAT_FACED}}}, "then": _free("offset_mm")}),
@@ -168,14 +169,14 @@ class ProfileDesignRequest(Spec):
     the softest spring, then the smallest preload.
 
     Rules the validator also applies (each a 422 at its field): a follower's mass (or inertia) needs speed_rpm;
-    give base_radius_mm, or free it; free.roller_radius_mm needs a roller follower; free.pivot_distance_mm and
-    free.arm_length_mm are not searched; a spring (its rate, its preload or their bounds in free),
+    give base_radius_mm, or free it; free.roller_radius_mm needs a roller follower; free.arm_length_mm is not
+    searched; a spring (its rate, its preload or their bounds in free),
     allowed_stress_mpa and safety_margin_n need the follower's mass; the mass needs a spring (given or free);
     limits.allowed_stress_mpa needs roller; min_radius_of_curvature_roller_multiple and allowed_stress_mpa are a
     roller follower's; each free bound has lo ≤ hi; something to minimise moves (the base radius, or the spring).
 
-    A variable not in ``free`` keeps its value here (``base_radius_mm``, the follower's ``offset_mm`` and
-    ``roller_radius_mm``, ``spring_rate_n_mm`` and ``preload_n``). A translating follower's load is
+    A variable not in ``free`` keeps its value here (``base_radius_mm``, the follower's ``offset_mm``,
+    ``pivot_distance_mm`` and ``roller_radius_mm``, ``spring_rate_n_mm`` and ``preload_n``). A translating follower's load is
     ``mass_kg``, ``damping_n_s_mm`` and ``external_force_n``; an oscillating one's ``inertia_kgm2``,
     ``damping_nm_s_rad`` and ``external_torque_nm`` with its spring in N·m/rad. ``speed_rpm`` is one speed or
     a range [lo, hi]: the dynamic limits hold at every speed of it.
@@ -230,10 +231,13 @@ class ProfileDesignRequest(Spec):
             raise FieldRuleError(BASE_RADIUS_RULE, "base_radius_mm")
         if free.offset_mm is not None and (oscillating or follower.type == "flat-faced"):
             raise FieldRuleError(f"{OFFSET_RULE} ({MOTION_RULE})", "free", "offset_mm")
+        if free.pivot_distance_mm is not None and not oscillating:
+            raise FieldRuleError(f"free.pivot_distance_mm is an oscillating follower's ({MOTION_RULE})", "free",
+                                 "pivot_distance_mm")
         if free.roller_radius_mm is not None and follower.type != "roller":
             raise FieldRuleError(ROLLER_RADIUS_RULE, "free", "roller_radius_mm")
         other = ("spring_rate_n_mm", "preload_n") if oscillating else ("spring_rate_nm_rad", "preload_nm")
-        for name in (*other, "pivot_distance_mm", "arm_length_mm"):
+        for name in (*other, "arm_length_mm"):
             if getattr(free, name) is not None:
                 raise FieldRuleError(f"{SPRING_UNITS_RULE} ({MOTION_RULE})" if name in other else NOT_SEARCHED_RULE,
                                      "free", name)
@@ -322,6 +326,12 @@ DESIGN_EXAMPLES: dict[str, Example] = {
                          "free": {"base_radius_mm": [10, 200], "roller_radius_mm": [5, 20], "preload_n": [0, 500]}}},
     "oscillating": {"summary": "an oscillating roller arm: base radius and spring (N·m/rad) at 300-400 rpm",
                     "value": OSCILLATING_DESIGN},
+    "pivot": {"summary": "the same arm placed: its pivot's distance and the base radius for a 30° pressure angle",
+              "description": "the smallest cam lies where the pressure angle's least value over the base radius "
+                             "just reaches 30° (a pivot nearer the cam meets it at no base radius)",
+              "value": {"segments": OSCILLATING_PROFILE["segments"], "follower": OSCILLATING_DESIGN["follower"],
+                        "limits": {"max_pressure_angle_deg": 30, "min_radius_of_curvature_mm": 2},
+                        "free": {"base_radius_mm": [5, 80], "pivot_distance_mm": [30, 120]}}},
 }
 
 

@@ -564,9 +564,11 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
     "external_force_n, damping_n_s_mm, its free spring free.spring_rate_n_mm and free.preload_n, its lift in mm, "
     "and it may free offset_mm unless it is flat-faced; an oscillating one's load is inertia_kgm2, "
     "spring_rate_nm_rad, preload_nm, external_torque_nm, damping_nm_s_rad, its free spring "
-    "free.spring_rate_nm_rad and free.preload_nm, its swing in deg, and it has no offset": (
+    "free.spring_rate_nm_rad and free.preload_nm, its swing in deg, and it has no offset (it may free "
+    "pivot_distance_mm)": (
         [design(), design(OSCILLATING, {"swing_deg": 20}), design(free={"base_radius_mm": [10, 200],
-                                                                         "offset_mm": [-5, 5]})],
+                                                                         "offset_mm": [-5, 5]}),
+         design(OSCILLATING, {"swing_deg": 20}, free={"base_radius_mm": [10, 200], "pivot_distance_mm": [60, 120]})],
         [(design(inertia_kgm2=0.004), "not the torques of an oscillating one"),
          (design(OSCILLATING, {"swing_deg": 20}, mass_kg=0.5), "not the forces of a translating one"),
          (design(OSCILLATING, {"swing_deg": 20}, free={"base_radius_mm": [10, 200], "offset_mm": [-5, 5]}),
@@ -575,6 +577,8 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
           "a flat face's offset does not change its cam"),
          (design(free={"base_radius_mm": [10, 200], "spring_rate_nm_rad": [1, 5]}),
           "a translating follower's spring is free.spring_rate_n_mm"),
+         (design(free={"base_radius_mm": [10, 200], "pivot_distance_mm": [60, 120]}),
+          "free.pivot_distance_mm is an oscillating follower's"),
          (design(OSCILLATING), "an oscillating follower's lift is swing_deg, not lift_mm")]),
     "give exactly one of speed_fluctuation and inertia_kgm2": (
         [machine(flywheel={"speed_fluctuation": 0.05}), machine(flywheel={"inertia_kgm2": 2})],
@@ -722,7 +726,7 @@ NOT_STATABLE = re.compile("|".join(re.escape(words) for words in (
     "the cam has a corner there (radius of curvature 0)", "reachable within the bounds",
     "the limits cannot all be met within the bounds", "the largest contact force the follower keeps within the bounds",
     "a follower's mass (or inertia) needs speed_rpm", "give base_radius_mm, or free it",
-    "free.roller_radius_mm needs a roller follower", "free.pivot_distance_mm and free.arm_length_mm are not searched",
+    "free.roller_radius_mm needs a roller follower", "free.arm_length_mm is not searched",
     "need the follower's mass_kg", "the follower's mass needs a spring", "limits.allowed_stress_mpa needs roller",
     "are a roller follower's limits", "roller (width and materials) goes with a roller follower's stress limit",
     # a result beyond the range of float64

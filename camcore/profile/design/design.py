@@ -12,9 +12,9 @@ How the optimum is found (each step exact where it can be, bounded where it cann
 2. **The base radius.** For fixed offset, roller radius and spring every limit's margin grows with the
    base radius, so the smallest feasible radius is the largest of each limit's own root (as
    :func:`camcore.profile.base_circle.size_base_circle` does), and the lower bound.
-3. **The rest** (offset, roller radius): a bounded search (:mod:`.search`) over them, on the lift
-   sampled every 0.25° (:mod:`.evaluate`), located to 1e-5 of each variable's range; the design it
-   settles on is solved again exactly (:mod:`.exact`).
+3. **The rest** (offset or an arm's pivot distance, roller radius): a bounded search (:mod:`.search`) over
+   them, on the lift sampled every 0.25° (:mod:`.evaluate`), located to 1e-5 of each variable's range; the
+   design it settles on is solved again exactly (:mod:`.exact`).
 
 Where the spring and the Hertz limit trade (a preload lower bound below what the softest spring needs:
 a stiffer spring with less preload presses less at low lift, where a rise's acceleration peaks), the
@@ -44,7 +44,7 @@ from ..cam import CamSpec
 from ..checks import corners
 from .evaluate import Lanes, SearchCam
 from .exact import Candidate, ExactCam
-from .problem import DesignProblem, check_problem
+from .problem import PLACE, DesignProblem, check_problem, placed
 from .results import DesignConstraint, DesignSearch, DesignValues, ProfileDesign
 from .roots import assembly_range
 from .search import LOCATION_TOLERANCE, SearchOutcome, grid_minimum, nested_minimum
@@ -55,7 +55,8 @@ ACTIVE_SHARE = 1e-4
 #: limits whose value must stay at or below the limit (the others at or above)
 UPPER_LIMITS = ("max_pressure_angle_deg", "max_return_pressure_angle_deg", "allowed_stress_mpa")
 METHOD = ("the spring by its monotone root (the softest rate whose smallest preload fits); the base radius as the "
-          "largest of each limit's own root (Illinois, 1e-10); the offset and the roller radius by nested searches, "
+          "largest of each limit's own root (Illinois, 1e-10); the offset (an arm's pivot distance) and the roller "
+          "radius by nested searches, "
           "each a coarse grid that brackets its best point and golden section to 1e-5 of its range, on the lift "
           "sampled every 0.25°; where the spring rate trades against the stress, the rate that presses least by "
           "golden section (the stress is convex in it) and the softest that fits by its root; the design found "
@@ -73,7 +74,10 @@ class _Problem:
         rb = problem.bounds("base_radius_mm", spec.base_radius_mm)
         assert rb is not None
         self.rb_lo, self.rb_hi = rb
-        self.offset = problem.bounds("offset_mm", follower.offset_mm) or (0.0, 0.0)
+        #: the variable that places the follower (an offset, or an arm's pivot distance) and its bounds
+        self.place_name = PLACE[follower.motion]
+        given = follower.offset_mm if follower.motion == "translating" else follower.pivot_distance_mm
+        self.place = problem.bounds(self.place_name, given) or (0.0, 0.0)
         self.roller = problem.bounds("roller_radius_mm", follower.roller_radius_mm) or (0.0, 0.0)
         self.rate = problem.bounds(self.rate_name, problem.spring_rate)
         self.preload = problem.bounds(self.preload_name, 0.0 if problem.preload is None else problem.preload)
@@ -84,21 +88,25 @@ class _Problem:
         """The variable is free with room between its bounds."""
         return name in self.p.free and self.p.free[name][0] < self.p.free[name][1]
 
-    def spring_cam(self, rb: float | None = None) -> CamSpec:
+    def spring_cam(self, rb: float | None = None, place_mm: float | None = None) -> CamSpec:
         """A cam that can be assembled, for the spring's model (its figures do not depend on the
-        geometry, except a flat-faced oscillating follower's lever arm: then the cam at ``rb``)."""
-        follower = replace(self.spec.follower, offset_mm=self.offset[0], roller_radius_mm=self.roller[0])
+        geometry, except a flat-faced oscillating follower's lever arm: then the cam at ``rb``, placed at
+        ``place_mm``)."""
+        follower = placed(self.spec.follower, self.place[0] if place_mm is None else place_mm, self.roller[0])
         if rb is not None:
             return replace(self.spec, follower=follower, base_radius_mm=rb)
         if follower.motion == "translating":
             return replace(self.spec, follower=follower,
-                           base_radius_mm=self.rb_hi + max(abs(self.offset[0]), abs(self.offset[1])) + 1.0)
-        model = replace(self.spec, follower=follower).model
+                           base_radius_mm=self.rb_hi + max(abs(self.place[0]), abs(self.place[1])) + 1.0)
         lift = self.spec.lift.derivatives(np.linspace(0.0, 2 * math.pi, 721), 0)[0]
-        _lo, hi = assembly_range(model, lift, 1e-3 * self.rb_lo, max(self.rb_hi, 1e3 * self.rb_hi))
-        if not math.isfinite(hi):
-            raise GeometryError("The arm cannot be assembled on any base circle with this lift.")
-        return replace(self.spec, follower=follower, base_radius_mm=hi)
+        lo, hi = self.place
+        for place in dict.fromkeys((lo, hi, 0.5 * (lo + hi))):  # a free pivot: any place the arm assembles at
+            follower = placed(self.spec.follower, place, self.roller[0])
+            model = replace(self.spec, follower=follower).model
+            _lo, top = assembly_range(model, lift, 1e-3 * self.rb_lo, max(self.rb_hi, 1e3 * self.rb_hi))
+            if math.isfinite(top):
+                return replace(self.spec, follower=follower, base_radius_mm=top)
+        raise GeometryError("The arm cannot be assembled on any base circle with this lift.")
 
 
 def _refuse_corners(spec: CamSpec, problem: DesignProblem) -> None:
@@ -170,8 +178,8 @@ def design_profile(problem: DesignProblem) -> ProfileDesign:
     if load is not None and not pb.geometry_spring:
         spring = SpringModel(pb.spring_cam(), load, pb.margin_n)
         softest, coupled, stiffest = _spring(pb, spring)
-    geometry = [n for n in ("offset_mm", "roller_radius_mm") if pb.free(n) and not (n == "offset_mm" and (
-        pb.spec.follower.motion != "translating" or pb.spec.model.flat_faced))]
+    geometry = [n for n in (pb.place_name, "roller_radius_mm") if pb.free(n) and not (
+        n == "offset_mm" and pb.spec.model.flat_faced)]
     search = SearchCam(pb.spec, pb.limits, spring, pb.rb_lo)
     search.preload_floor = pb.preload[0] if pb.preload is not None else 0.0
     exact = ExactCam(pb.spec, pb.limits, spring, pb.rb_lo, pb.rb_hi)
@@ -181,7 +189,7 @@ def design_profile(problem: DesignProblem) -> ProfileDesign:
         m = points.shape[0]
         column = {n: points[:, i] for i, n in enumerate(names)}
         preload = math.nan if preload is None else preload
-        return Lanes(column.get("offset_mm", np.full(m, pb.offset[0])),
+        return Lanes(column.get(pb.place_name, np.full(m, pb.place[0])),
                      column.get("roller_radius_mm", np.full(m, pb.roller[0])), np.full(m, rate), np.full(m, preload))
 
     def run(rate: float) -> tuple[SearchOutcome, Candidate | None]:
@@ -192,11 +200,11 @@ def design_profile(problem: DesignProblem) -> ProfileDesign:
         if outcome.point is None:
             return outcome, None
         point = dict(zip(geometry, (float(x) for x in outcome.point), strict=True))
-        return outcome, Candidate(point.get("offset_mm", pb.offset[0]), point.get("roller_radius_mm", pb.roller[0]),
+        return outcome, Candidate(point.get(pb.place_name, pb.place[0]), point.get("roller_radius_mm", pb.roller[0]),
                                   None if spring is None else rate, preload)
 
-    box = ([pb.offset[0] if n == "offset_mm" else pb.roller[0] for n in geometry],
-           [pb.offset[1] if n == "offset_mm" else pb.roller[1] for n in geometry])
+    box = ([pb.place[0] if n == pb.place_name else pb.roller[0] for n in geometry],
+           [pb.place[1] if n == pb.place_name else pb.roller[1] for n in geometry])
     names, rate = list(geometry), softest
     traded = coupled  # the rate is chosen against the stress: the softest that fits is solved for at the end
     if coupled and spring is not None:
@@ -237,7 +245,7 @@ def design_profile(problem: DesignProblem) -> ProfileDesign:
         radii = exact.radii(cand)
         rb = max([pb.rb_lo, *radii.values()])
     if load is not None and pb.geometry_spring:
-        spring = SpringModel(pb.spring_cam(rb), load, pb.margin_n)
+        spring = SpringModel(pb.spring_cam(rb, cand.place_mm), load, pb.margin_n)
         exact.spring = spring
         softest, _coupled, _stiffest = _spring(pb, spring)
         cand = replace(cand, rate=softest, preload=_preload(pb, spring, softest))
@@ -282,7 +290,7 @@ def _least_stress_at(search: SearchCam, cand: Candidate, rb: float, softest: flo
 
     def stress(rate: FloatArray) -> FloatArray:
         preload = np.maximum(search.preload_floor, (-spring.reserve(search.state, rate)).max(axis=1))
-        lanes = Lanes(np.full(rate.size, cand.offset_mm), np.full(rate.size, cand.roller_radius_mm), rate, preload)
+        lanes = Lanes(np.full(rate.size, cand.place_mm), np.full(rate.size, cand.roller_radius_mm), rate, preload)
         return search.extremes(lanes, np.full(rate.size, rb))[0]["stress"]
 
     return _least_stress(stress, softest, stiffest)
@@ -358,10 +366,11 @@ def _answer(pb: _Problem, exact: ExactCam, spring: SpringModel | None, cand: Can
         constraints.append(DesignConstraint(name, float(value), float(limit), float(margin), active, chosen))
     design = DesignValues(
         base_radius_mm=rb,
-        offset_mm=cand.offset_mm if pb.spec.follower.motion == "translating" else None,
+        offset_mm=cand.place_mm if pb.spec.follower.motion == "translating" else None,
+        pivot_distance_mm=cand.place_mm if pb.spec.follower.motion == "oscillating" else None,
         roller_radius_mm=cand.roller_radius_mm if pb.spec.follower.type == "roller" else None,
         **({} if spring is None else {pb.rate_name: cand.rate, pb.preload_name: cand.preload}))
-    own: dict[str, float | None] = {"base_radius_mm": rb, "offset_mm": cand.offset_mm,
+    own: dict[str, float | None] = {"base_radius_mm": rb, pb.place_name: cand.place_mm,
                                     "roller_radius_mm": cand.roller_radius_mm, pb.rate_name: cand.rate,
                                     pb.preload_name: cand.preload}
     for name, (lo, hi) in pb.p.free.items():
@@ -411,7 +420,7 @@ def _infeasible(pb: _Problem, search: SearchCam, exact: ExactCam, names: list[st
     point = box_lo if outcome.point is None else outcome.point
     lanes = lanes_of(np.asarray([point]))
     _best, best_at = search.best_margin(lanes, pb.rb_hi, (name,) if how == "alone" else None, refine=True)
-    cand = Candidate(float(lanes.offset[0]), float(lanes.roller[0]),
+    cand = Candidate(float(lanes.place[0]), float(lanes.roller[0]),
                      None if exact.spring is None else float(lanes.rate[0]),
                      None if exact.spring is None else float(lanes.preload[0]))
     at = float(best_at[0]) if math.isfinite(float(best_at[0])) else pb.rb_hi
@@ -436,7 +445,8 @@ def _infeasible(pb: _Problem, search: SearchCam, exact: ExactCam, names: list[st
     unit = {"max_pressure_angle_deg": "°", "max_return_pressure_angle_deg": "°", "min_radius_of_curvature_mm": " mm",
             "allowed_stress_mpa": " MPa"}.get(name, "")
     word = "smallest" if name in UPPER_LIMITS else "largest"
-    where = (f"base radius {at:.6g} mm" + (f", offset {cand.offset_mm:.6g} mm" if "offset_mm" in names else "")
+    place = "offset" if pb.place_name == "offset_mm" else "pivot distance"
+    where = (f"base radius {at:.6g} mm" + (f", {place} {cand.place_mm:.6g} mm" if pb.place_name in names else "")
              + (f", roller radius {cand.roller_radius_mm:.6g} mm" if "roller_radius_mm" in names else "")
              + (f", spring rate {cand.rate:.6g}" if rates is not None and cand.rate is not None else ""))
     if how == "alone":

@@ -1,7 +1,8 @@
 """The search's evaluator: for many candidate designs at once, each limit's margin at any base radius
 and the smallest base radius that meets every limit, from the lift sampled on a grid.
 
-A candidate ("lane") is an offset e, a roller radius Rr, and a spring (rate and preload); the base
+A candidate ("lane") is a place (an offset e, or an arm's pivot distance d), a roller radius Rr, and a
+spring (rate and preload); the base
 radius Rb is solved for. Every limit's margin grows with Rb (the pressure angle falls, the radius of
 curvature grows, the Hertz stress falls with the curvature and the normal force), so the smallest
 Rb meeting all of them is the root of the smallest margin, bracketed between the geometric floor
@@ -32,7 +33,7 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
@@ -44,7 +45,7 @@ from ...errors import GeometryError
 from ..cam import CamSpec
 from ..checks import lift_check_grid
 from ..dynamics import effective_modulus_mpa
-from .problem import DesignLimits
+from .problem import DesignLimits, placed
 from .roots import IndexArray, assembly_range, feasible_points, illinois
 from .spring import SpringModel
 
@@ -60,22 +61,23 @@ FLOOR_SHARE = 1e-3
 
 @dataclass(frozen=True)
 class Lanes:
-    """Candidate designs, one per lane: offset e [mm], roller radius Rr [mm], spring rate k [N/mm or
-    N·m/rad] and preload [N or N·m] (the spring NaN without a load)."""
+    """Candidate designs, one per lane: the follower's place (a translating one's offset e, an oscillating
+    one's pivot distance d) [mm], roller radius Rr [mm], spring rate k [N/mm or N·m/rad] and preload [N or
+    N·m] (the spring NaN without a load)."""
 
-    offset: FloatArray
+    place: FloatArray
     roller: FloatArray
     rate: FloatArray
     preload: FloatArray
 
     def take(self, which: IndexArray) -> Lanes:
         """The lanes of these indices."""
-        return Lanes(self.offset[which], self.roller[which], self.rate[which], self.preload[which])
+        return Lanes(self.place[which], self.roller[which], self.rate[which], self.preload[which])
 
     @property
     def size(self) -> int:
         """How many lanes."""
-        return int(self.offset.size)
+        return int(self.place.size)
 
 
 class SearchCam:
@@ -95,7 +97,6 @@ class SearchCam:
         self.closed_form = spec.follower.motion == "translating" and not self.model.flat_faced
         self.oscillating_point = spec.follower.motion == "oscillating" and not self.model.flat_faced
         if self.oscillating_point:
-            self.pivot_mm = float(spec.follower.pivot_distance_mm or 0.0)
             self.arm_mm = float(spec.follower.arm_length_mm or 0.0)
             swing = np.radians(self.lift[0])
             self.swing_range = (float(swing.min()), float(swing.max()))
@@ -137,7 +138,7 @@ class SearchCam:
         h, h1, h2 = (x[None, :] for x in self.lift)
         stress = self.stress_scale is not None and self.with_stress
         if self.closed_form:
-            e, rr = lanes.offset[:, None], lanes.roller[:, None]
+            e, rr = lanes.place[:, None], lanes.roller[:, None]
             square = (rb[:, None] + rr) ** 2 - e * e
             valid = (square[:, 0] > 0) & (rb > 0)
             s0 = np.sqrt(np.where(valid[:, None], square, 1.0))
@@ -151,8 +152,7 @@ class SearchCam:
         phi, curv, cos_phi = np.zeros((rb.size, n)), np.zeros((rb.size, n)), np.ones((rb.size, n))
         valid = np.ones(rb.size, dtype=bool)
         for i in range(rb.size):
-            follower = replace(self.spec.follower, offset_mm=float(lanes.offset[i]),
-                               roller_radius_mm=float(lanes.roller[i]))
+            follower = placed(self.spec.follower, float(lanes.place[i]), float(lanes.roller[i]))
             model = type(self.model)(follower)
             try:
                 if not rb[i] > 0:
@@ -173,15 +173,15 @@ class SearchCam:
         α = α0 + ψ, cos α0 = (d² + L² − (Rb + Rr)²)/(2dL), and the point followers' formulas of
         :mod:`camcore.profile.followers` (u1 = c' − σJc, u2 = c'' − 2σJc' − c, κp = −σ(u1 × u2)/|u1|³,
         φ = atan2(u1·v̂, −σ u1·Jv̂))."""
-        d, arm, sg = self.pivot_mm, self.arm_mm, self.sigma
-        r = rb + lanes.roller
+        arm, sg = self.arm_mm, self.sigma
+        d, r = lanes.place, rb + lanes.roller
         alpha0 = np.arccos(np.clip((d * d + arm * arm - r * r) / (2 * d * arm), -1.0, 1.0))
-        valid = ((abs(d - arm) < r) & (r < d + arm) & (alpha0 + self.swing_range[0] > 0)
+        valid = ((np.abs(d - arm) < r) & (r < d + arm) & (alpha0 + self.swing_range[0] > 0)
                  & (alpha0 + self.swing_range[1] < math.pi))
         a = alpha0[:, None] + np.radians(self.lift[0])[None, :]
         a1, a2 = np.radians(self.lift[1])[None, :], np.radians(self.lift[2])[None, :]
         sa, ca = np.sin(a), np.cos(a)
-        cx, cy = d - arm * ca, arm * sa
+        cx, cy = d[:, None] - arm * ca, arm * sa
         c1x, c1y = arm * sa * a1, arm * ca * a1
         c2x, c2y = arm * (ca * a1 * a1 + sa * a2), arm * (-sa * a1 * a1 + ca * a2)
         u1x, u1y = c1x + sg * cy, c1y - sg * cx
@@ -328,19 +328,19 @@ class SearchCam:
         lo = np.full(lanes.size, self.floor)
         hi = np.full(lanes.size, float(rb_hi))
         if self.closed_form:
-            lo = np.maximum(lo, np.abs(lanes.offset) - lanes.roller + 1e-9 * max(1.0, rb_hi))
+            lo = np.maximum(lo, np.abs(lanes.place) - lanes.roller + 1e-9 * max(1.0, rb_hi))
             return np.maximum(lo, self.pressure_radius(lanes)), hi
         if self.oscillating_point:
             # |d − L| < Rb + Rr < d + L, and α0 + ψmax < π: Rb + Rr < √(d² + L² + 2dL·cos ψmax)
-            d, arm = self.pivot_mm, self.arm_mm
-            reach = min(d + arm, math.sqrt(max(d * d + arm * arm + 2 * d * arm * math.cos(self.swing_range[1]), 0.0)))
-            margin = 1e-9 * max(1.0, reach)
-            lo = np.maximum(lo, abs(d - arm) - lanes.roller + margin)
+            d, arm = lanes.place, self.arm_mm
+            reach = np.minimum(d + arm, np.sqrt(np.maximum(d * d + arm * arm + 2 * d * arm
+                                                           * math.cos(self.swing_range[1]), 0.0)))
+            margin = 1e-9 * np.maximum(1.0, reach)
+            lo = np.maximum(lo, np.abs(d - arm) - lanes.roller + margin)
             hi = np.minimum(hi, reach - lanes.roller - margin)
             return np.where(lo <= hi, lo, np.inf), np.where(lo <= hi, hi, np.inf)
         for i in range(lanes.size):
-            follower = replace(self.spec.follower, offset_mm=float(lanes.offset[i]),
-                               roller_radius_mm=float(lanes.roller[i]))
+            follower = placed(self.spec.follower, float(lanes.place[i]), float(lanes.roller[i]))
             lo[i], hi[i] = assembly_range(type(self.model)(follower), self.lift[0], lo[i], rb_hi)
         return lo, hi
 
@@ -356,9 +356,9 @@ class SearchCam:
         if rise is None or ret is None:
             return np.zeros(lanes.size)
         h, h1 = self.lift[0][None, :], self.lift[1][None, :]
-        p = h1 - self.sigma * lanes.offset[:, None]
+        p = h1 - self.sigma * lanes.place[:, None]
         s0 = np.maximum(p / math.tan(math.radians(rise)) - h, -p / math.tan(math.radians(ret)) - h).max(axis=1)
-        return np.sqrt(np.maximum(s0, 0.0) ** 2 + lanes.offset**2) - lanes.roller
+        return np.sqrt(np.maximum(s0, 0.0) ** 2 + lanes.place**2) - lanes.roller
 
     def needed_radius(self, lanes: Lanes, rb_hi: float) -> FloatArray:
         """The smallest base radius meeting every limit, for each lane, +inf where none up to ``rb_hi`` does
@@ -421,7 +421,7 @@ class SearchCam:
             m = self.margins(lanes.take(which), rb, pressure)
             return np.min(np.vstack(list(m.values())), axis=0) if m else np.zeros(rb.size)
 
-        open_ = np.flatnonzero(lo <= upper)
+        open_ = np.flatnonzero(np.isfinite(lo) & (lo <= upper))  # an arm that cannot be assembled: both +inf
         if open_.size == 0:
             return out
         at_lo = smallest(open_, lo[open_])

@@ -34,17 +34,17 @@ from ...errors import GeometryError
 from ..base_circle import size_base_circle
 from ..cam import CamSpec, kinematics, validate
 from ..checks import check_maxima, lift_grid
-from .problem import DesignLimits
+from .problem import DesignLimits, placed
 from .roots import assembly_range
 from .spring import SpringModel
 
 
 @dataclass(frozen=True)
 class Candidate:
-    """One design's free values: offset and roller radius [mm], spring rate [N/mm or N·m/rad] and
-    preload [N or N·m] (None without a load)."""
+    """One design's free values: the follower's place (:func:`placed`) and roller radius [mm], spring rate
+    [N/mm or N·m/rad] and preload [N or N·m] (None without a load)."""
 
-    offset_mm: float
+    place_mm: float
     roller_radius_mm: float
     rate: float | None = None
     preload: float | None = None
@@ -67,8 +67,7 @@ class ExactCam:
 
     def cam(self, c: Candidate, rb: float) -> CamSpec:
         """The cam of a candidate at base radius ``rb`` (not validated)."""
-        return replace(self.spec, base_radius_mm=rb,
-                       follower=replace(self.spec.follower, offset_mm=c.offset_mm, roller_radius_mm=c.roller_radius_mm))
+        return replace(self.spec, base_radius_mm=rb, follower=placed(self.spec.follower, c.place_mm, c.roller_radius_mm))
 
     def curvature_needed(self, c: Candidate) -> float | None:
         """The smallest radius of curvature of the surface the candidate must keep [mm] (None: no limit)."""
@@ -174,8 +173,8 @@ class ExactCam:
 
     def geometric_radii(self, c: Candidate) -> dict[str, float]:
         """Each geometric limit's own smallest base radius (pressure angle, curvature) [mm]; +inf where
-        the bounds hold none (kept for each offset and roller radius: the spring does not change them)."""
-        key = (c.offset_mm, c.roller_radius_mm)
+        the bounds hold none (kept for each place and roller radius: the spring does not change them)."""
+        key = (c.place_mm, c.roller_radius_mm)
         if key not in self._geometric:
             self._geometric[key] = self._geometric_radii(c)
         return dict(self._geometric[key])
@@ -211,7 +210,7 @@ class ExactCam:
         assert self.spring is not None and c.rate is not None and c.preload is not None
         allowed = self.limits.allowed_stress_mpa
         assert allowed is not None
-        key = (c.offset_mm, c.roller_radius_mm, c.rate, c.preload, start)
+        key = (c.place_mm, c.roller_radius_mm, c.rate, c.preload, start)
         if key not in self._stress:
             self._stress[key] = self._stress_radius(c, start, allowed)
         return self._stress[key]

@@ -15,33 +15,59 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Literal
 
 from ...errors import InvalidParameterError
 from ..cam import CamSpec
 from ..dynamics.load import RollerMaterials
+from ..followers import Follower
 
-Variable = Literal["base_radius_mm", "offset_mm", "roller_radius_mm", "spring_rate_n_mm", "preload_n",
-                   "spring_rate_nm_rad", "preload_nm"]
+Variable = Literal["base_radius_mm", "offset_mm", "pivot_distance_mm", "roller_radius_mm", "spring_rate_n_mm",
+                   "preload_n", "spring_rate_nm_rad", "preload_nm"]
 #: every variable the search may move, by the follower's motion (its spring in its own units)
 VARIABLES: dict[str, tuple[str, ...]] = {
     "translating": ("base_radius_mm", "offset_mm", "roller_radius_mm", "spring_rate_n_mm", "preload_n"),
-    "oscillating": ("base_radius_mm", "roller_radius_mm", "spring_rate_nm_rad", "preload_nm"),
+    "oscillating": ("base_radius_mm", "pivot_distance_mm", "roller_radius_mm", "spring_rate_nm_rad", "preload_nm"),
 }
+#: the variable that places the follower beside the cam, by its motion (:func:`placed`)
+PLACE = {"translating": "offset_mm", "oscillating": "pivot_distance_mm"}
 #: the spring's and the load's fields of each motion: (spring rate, preload, mass, damping, external)
 SPRING_FIELDS = {"translating": ("spring_rate_n_mm", "preload_n", "mass_kg", "damping_n_s_mm", "external_force_n"),
                  "oscillating": ("spring_rate_nm_rad", "preload_nm", "inertia_kgm2", "damping_nm_s_rad",
                                  "external_torque_nm")}
 #: variables a request may name that this search does not move, and why
 NOT_SEARCHED = {
-    "pivot_distance_mm": "the pivot's position is not a design variable of this search (the arm's assembly "
-                         "bounds the base radius from above, so the monotone base-radius solve does not hold): "
-                         "give pivot_distance_mm in follower",
-    "arm_length_mm": "the arm length is not a design variable of this search (the arm's assembly bounds the base "
-                     "radius from above, so the monotone base-radius solve does not hold): give arm_length_mm in "
-                     "follower",
+    "arm_length_mm": "the arm length is not a design variable of this search (the machine's linkage sets it): give "
+                     "arm_length_mm in follower, and free pivot_distance_mm to place the arm",
 }
+
+
+def placed(follower: Follower, place_mm: float, roller_radius_mm: float) -> Follower:
+    """The follower placed and with this roller: ``place_mm`` is a translating follower's offset e, an
+    oscillating one's pivot distance d from the cam's centre.
+
+    Parameters
+    ----------
+    follower : Follower
+        The follower's other values.
+    place_mm : float
+        e or d [mm].
+    roller_radius_mm : float
+        Rr [mm].
+
+    Returns
+    -------
+    Follower
+        A copy with these values (not validated).
+
+    References
+    ----------
+    Norton, *Cam Design and Manufacturing Handbook* (the offset and the pivot as design variables).
+    """
+    if follower.motion == "translating":
+        return replace(follower, offset_mm=place_mm, roller_radius_mm=roller_radius_mm)
+    return replace(follower, pivot_distance_mm=place_mm, roller_radius_mm=roller_radius_mm)
 
 
 @dataclass(frozen=True)
@@ -149,7 +175,8 @@ def _check_bounds(problem: DesignProblem) -> None:
             raise _bad(f"free.{name}: the bounds must be finite numbers, not [{lo!r}, {hi!r}].", "free", name)
         if lo > hi:
             raise _bad(f"free.{name}: the lower bound {lo!r} is above the upper bound {hi!r}.", "free", name)
-        if name in ("base_radius_mm", "roller_radius_mm", "spring_rate_n_mm", "spring_rate_nm_rad") and not lo > 0:
+        if name in ("base_radius_mm", "pivot_distance_mm", "roller_radius_mm", "spring_rate_n_mm",
+                    "spring_rate_nm_rad") and not lo > 0:
             raise _bad(f"free.{name}: the lower bound must be greater than 0, not {lo!r}.", "free", name)
 
 

@@ -19,6 +19,8 @@ class DesignValues:
 
     base_radius_mm: float = field(metadata=doc("the base circle's radius Rb [mm]"))
     offset_mm: float | None = field(metadata=doc("translating follower: the offset e of its line of motion [mm]"))
+    pivot_distance_mm: float | None = field(metadata=doc(
+        "oscillating follower: the distance d from the cam's centre to the arm's pivot [mm]"))
     roller_radius_mm: float | None = field(metadata=doc("roller follower: the roller's radius Rr [mm]"))
     spring_rate_n_mm: float | None = field(default=None, metadata=doc(
         "translating follower with a load: the spring rate k [N/mm]"))

@@ -119,6 +119,58 @@ def test_a_knife_edge_offset_against_a_grid() -> None:
         assert need >= rb - 1e-4, (e, need, rb)
 
 
+def _arm_smallest_radius(spec: CamSpec, limit_deg: float, top_mm: float) -> float:
+    """An arm's smallest base radius with every pressure angle ≤ limit_deg, by profile_checks alone (the
+    independent judge): the largest pressure angle is unimodal in the base radius (it falls as the cam
+    grows, then rises as the arm nears folding), so its least value is found by bounded Brent, and the
+    smallest radius meeting the limit by bisection below it; inf where even the least exceeds the limit."""
+    from scipy.optimize import minimize_scalar
+
+    def largest(rb: float) -> float:
+        try:
+            return profile_checks(replace(spec, base_radius_mm=rb)).max_pressure_angle_deg
+        except InvalidParameterError:  # the arm cannot be assembled or swung at this radius
+            return math.inf
+
+    floor = abs(spec.follower.pivot_distance_mm - spec.follower.arm_length_mm) - spec.follower.roller_radius_mm
+    lo = max(floor, 0.0) + 1e-6
+    least = minimize_scalar(largest, bounds=(lo, top_mm), method="bounded", options={"xatol": 1e-6})
+    if least.fun > limit_deg:
+        return math.inf
+    hi = float(least.x)
+    while hi - lo > 1e-6:  # the largest pressure angle falls from lo to the least's radius
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if largest(mid) <= limit_deg else (mid, hi)
+    return hi
+
+
+def test_a_free_pivot_against_a_grid_of_pivots() -> None:
+    # the arm's pivot distance d searched with the base radius: each pivot of a grid over the whole box and
+    # beside the answer, sized by profile_checks alone, is never a smaller feasible cam. The smallest cam
+    # lies where the pressure angle's least value over the base radius just reaches the limit (a smaller
+    # d: none meets it), so the grid beside the answer straddles that edge
+    limits = DesignLimits(max_pressure_angle_deg=30)
+    free = {"base_radius_mm": (5.0, 80.0), "pivot_distance_mm": (30.0, 120.0)}
+    result = design_profile(DesignProblem(cam(ARM, OSCILLATING, rb=20.0), free, limits))
+    rb, d0 = result.design.base_radius_mm, result.design.pivot_distance_mm
+    assert d0 is not None and result.cam.follower.pivot_distance_mm == d0
+    assert profile_checks(result.cam).max_pressure_angle_deg <= 30 * (1 + 1e-9)  # feasible by the checks
+    assert at(result, "max_pressure_angle_deg")[3]  # the pressure angle is active
+    def need(d: float) -> float:
+        return _arm_smallest_radius(replace(result.cam, follower=replace(ARM, pivot_distance_mm=d)), 30.0, 80.0)
+
+    # 1e-5 mm: the judge's bisection stops within 1e-6 mm, the answer's radius is solved to 1e-10
+    for d in np.linspace(30.0, 120.0, 7):
+        assert need(float(d)) >= rb - 1e-5, (float(d), need(float(d)), rb)
+    # the edge: 2e-3 mm below the answer's pivot no radius meets the limit (the pivot is located to 1e-5 of
+    # its 90 mm range, 9e-4 mm); at it, the judge's radius is the answer's; beyond it, the radius grows by
+    # about 1.07 mm per mm of d (measured: +0.0107 mm at d0 + 0.01), so no smaller cam lies on that side
+    assert need(d0 - 2e-3) == math.inf
+    assert need(d0) == pytest.approx(rb, abs=1e-5)
+    assert rb < need(d0 + 0.01) <= rb + 1.2 * 0.01
+    assert rb < need(d0 + 0.5) <= rb + 1.2 * 0.5
+
+
 def _split_pressure_radius(spec: CamSpec, rise: float, ret: float) -> float:
     """The smallest radius with the largest φ ≤ rise and the largest −φ ≤ return, by bisection on
     profile_checks' signed pressure angle at its maximum and a dense scan of φ (independent of the design's
@@ -220,9 +272,11 @@ def test_an_unreachable_margin_names_the_stiffest_spring() -> None:
     ({"base_radius_mm": (20.0, 10.0)}, ("free", "base_radius_mm")),
     ({"base_radius_mm": (10.0, 20.0), "roller_radius_mm": (5.0, 6.0)}, ("free", "roller_radius_mm")),
     ({"base_radius_mm": (10.0, 20.0), "pivot_distance_mm": (50.0, 60.0)}, ("free", "pivot_distance_mm")),
+    ({"base_radius_mm": (10.0, 20.0), "arm_length_mm": (50.0, 60.0)}, ("free", "arm_length_mm")),
     ({"offset_mm": (-5.0, 5.0)}, ("free",)),
     ({"base_radius_mm": (10.0, 20.0), "spring_rate_n_mm": (1.0, 2.0)}, ("mass_kg",)),
-], ids=["lo-above-hi", "knife-has-no-roller", "pivot-not-searched", "nothing-to-minimise", "spring-without-mass"])
+], ids=["lo-above-hi", "knife-has-no-roller", "pivot-of-a-translating-follower", "arm-not-searched",
+        "nothing-to-minimise", "spring-without-mass"])
 def test_bad_problems_name_the_field(free: dict[str, tuple[float, float]], where: tuple[str, ...]) -> None:
     with pytest.raises(InvalidParameterError) as err:
         design_profile(DesignProblem(cam(Follower("knife-edge")), free, DesignLimits(max_pressure_angle_deg=30)))
@@ -289,7 +343,8 @@ def test_the_stress_trades_against_the_spring() -> None:
                          ids=["translating", "oscillating"])
 def test_the_closed_forms_are_the_followers_own_kinematics(follower: Follower) -> None:
     # the search's closed forms (one array for many candidates) against each follower model's own
-    # kinematics evaluated candidate by candidate: the same formulas, so equal to rounding (1e-12)
+    # kinematics evaluated candidate by candidate: the same formulas, so equal to rounding (1e-12);
+    # an arm's lanes each with a pivot distance of its own (a free pivot)
     from camcore.profile.design.evaluate import Lanes, SearchCam
 
     segments = OSCILLATING if follower.motion == "oscillating" else STEEP
@@ -298,8 +353,9 @@ def test_the_closed_forms_are_the_followers_own_kinematics(follower: Follower) -
     fast = SearchCam(spec, limits, None, 5.0)
     slow = SearchCam(spec, limits, None, 5.0)
     slow.closed_form = slow.oscillating_point = False  # the model's own kinematics, one candidate at a time
-    lanes = Lanes(np.full(4, follower.offset_mm), np.array([5.0, 6.0, 8.0, 12.0]), np.full(4, np.nan),
-                  np.full(4, np.nan))
+    place = (follower.offset_mm + np.zeros(4) if follower.motion == "translating"
+             else (follower.pivot_distance_mm or 0.0) + np.array([0.0, 4.0, -2.0, 8.0]))
+    lanes = Lanes(place, np.array([5.0, 6.0, 8.0, 12.0]), np.full(4, np.nan), np.full(4, np.nan))
     rb = np.array([20.0, 25.0, 30.0, 40.0])
     a, valid_a = fast.extremes(lanes, rb)
     b, valid_b = slow.extremes(lanes, rb)

@@ -13,7 +13,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from camcore.profile import CamSpec, Follower, profile_checks
+from camcore.profile import CamSpec, profile_checks
 from camcore.profile.design import DesignLimits, DesignProblem, FollowerLoad, design_profile
 from camcore.profile.dynamics import RollerMaterials, TranslatingLoad, follower_dynamics
 from tests.camcore.profile.test_design import ARM, OSCILLATING, ROLLER, cam, meets, smallest_on_grid

@@ -85,6 +85,27 @@ async def test_an_oscillating_arm_is_designed_in_its_own_units(client: httpx.Asy
     assert "swing_deg" in r.json()["profile"]
 
 
+async def test_a_free_pivot_places_the_arm_of_compute_profile_s_cam(client: httpx.AsyncClient) -> None:
+    # the pivot's search is checked against a grid of pivots in tests/camcore/profile/test_design.py; here the
+    # answer's profile is computeProfile's for the arm at the designed pivot, and that cam meets the limit
+    example = DESIGN_EXAMPLES["pivot"]["value"]
+    r = await client.post(URL, json=example)
+    assert r.status_code == 200, r.text
+    answer = r.json()
+    design = answer["design"]
+    assert 30 < design["pivot_distance_mm"] < 120 and design["offset_mm"] is None
+    assert answer["search"]["variables"] == ["pivot_distance_mm"]
+    follower = {**example["follower"], "pivot_distance_mm": design["pivot_distance_mm"]}
+    profile = await client.post("/v1/profiles", json={"profile": {
+        "follower": follower, "base_radius_mm": design["base_radius_mm"], "segments": example["segments"]},
+        "samples": 361})
+    assert profile.status_code == 200, profile.text
+    assert answer["profile"] == profile.json()  # the same cam, the same numbers
+    assert profile.json()["checks"]["max_pressure_angle_deg"] <= 30 * (1 + 1e-12)
+    active = {c["name"] for c in answer["constraints"] if c["active"]}
+    assert "max_pressure_angle_deg" in active and "free.pivot_distance_mm" not in active
+
+
 async def test_a_limit_no_design_meets_is_named_with_its_best_value(client: httpx.AsyncClient) -> None:
     r = await client.post(URL, json=body(free={**DESIGN_EXAMPLE["free"], "base_radius_mm": [10, 25]}))
     assert r.status_code == 422, r.text
@@ -100,7 +121,9 @@ async def test_a_limit_no_design_meets_is_named_with_its_best_value(client: http
       "mass_kg": None, "speed_rpm": None, "limits": {"max_pressure_angle_deg": 30}},
      ["body", "free", "roller_radius_mm"], "needs a roller follower"),
     ({"free": {"base_radius_mm": [10, 200], "pivot_distance_mm": [50, 60]}}, ["body", "free", "pivot_distance_mm"],
-     "are not searched"),
+     "is an oscillating follower's"),
+    ({"free": {"base_radius_mm": [10, 200], "arm_length_mm": [50, 60]}}, ["body", "free", "arm_length_mm"],
+     "is not searched"),
     ({"mass_kg": None, "speed_rpm": None}, ["body", "free", "spring_rate_n_mm"], "need the follower's mass_kg"),
     ({"free": {"offset_mm": [-5, 5]}, "base_radius_mm": 40, "mass_kg": None, "speed_rpm": None,
       "limits": {"max_pressure_angle_deg": 30}}, ["body", "free"], "nothing to minimise"),
@@ -110,7 +133,7 @@ async def test_a_limit_no_design_meets_is_named_with_its_best_value(client: http
     ({"limits": {"allowed_stress_mpa": 300}}, ["body", "roller"], "needs roller"),
     ({"inertia_kgm2": 0.004}, ["body", "inertia_kgm2"], "not the torques of an oscillating one"),
     ({"samples": 10**6}, ["body", "samples"], "over the limit"),
-], ids=["bounds", "no-roller", "pivot", "no-mass", "nothing-moves", "no-base-radius", "no-speed", "speed-order",
+], ids=["bounds", "no-roller", "pivot", "arm", "no-mass", "nothing-moves", "no-base-radius", "no-speed", "speed-order",
         "stress-without-roller", "other-motion", "samples"])
 async def test_bad_bodies_name_the_field(client: httpx.AsyncClient, change: dict[str, Any], loc: list[Any],
                                          words: str) -> None:
