@@ -19,10 +19,11 @@ import numpy as np
 
 from .._maxima import periodic_grid_maxima
 from .._solvers import NoFeasiblePointError, smallest_feasible
+from ..curves.base import FloatArray
 from ..errors import GeometryError, InvalidParameterError
 from .cam import CamSpec, validate
 from .checks import LiftGrid, check_maxima, corners, lift_grid, profile_checks
-from .followers import FlatTranslating
+from .followers import FlatTranslating, KnifeEdgeTranslating
 
 Constraint = Literal["pressure_angle", "radius_of_curvature", "geometry"]
 
@@ -72,6 +73,25 @@ def _flat_translating_radius(spec: CamSpec, grid: LiftGrid, req: float) -> float
     return r_c if r_c > 0 else None
 
 
+def _translating_pressure_radius(spec: CamSpec, grid: LiftGrid, limit_deg: float) -> float | None:
+    """Closed form of a translating knife-edge or roller: tan φ = (s' − σe)/(s0 + s), so |φ| ≤ α at
+    every θ exactly when s0 ≥ |s' − σe|/tan α − s there; s0 is the largest of that over the turn (the
+    checks' grid and local grids) and Rb = √(s0² + e²) − Rr. None where that is not above the
+    geometry's floor (the floor itself is no cam: the root solve then finds the smallest one)."""
+    e, sigma = spec.follower.offset_mm, spec.sigma
+    slope = math.tan(math.radians(limit_deg))
+
+    def needed(h: FloatArray, h1: FloatArray) -> FloatArray:
+        p = h1 - sigma * e
+        return np.vstack([p / slope - h, -p / slope - h])
+
+    found = periodic_grid_maxima(lambda t: needed(*spec.lift.derivatives(t, 1)[:2]), grid.theta,
+                                 needed(grid.lift[0], grid.lift[1]))
+    s0 = max(0.0, *(m for _, m in found))
+    rb = math.sqrt(s0 * s0 + e * e) - spec.model.roller_radius_mm
+    return rb if rb > spec.model.min_base_radius_mm() else None
+
+
 def _curvature_margin(spec: CamSpec, grid: LiftGrid, req: float) -> float:
     """Smallest radius of curvature of the cam surface less the limit [mm]; an undercut cam
     fails however large its nominal radius (a negative margin)."""
@@ -95,8 +115,10 @@ def size_base_circle(
 
     Each limit is solved on its own by the Illinois method to 1e-10 relative on the exact
     extreme it limits (grid + local grids, :func:`check_maxima`; the lift on the grid does not
-    change with the radius and is evaluated once); the answer is the larger radius. For translating followers the pressure angle tan φ = (s' − σe)/(s0 + s)
-    falls monotonically as Rb grows; the flat-faced translating case is closed form,
+    change with the radius and is evaluated once); the answer is the larger radius. Two are
+    closed forms: a translating knife-edge's or roller's pressure angle, tan φ = (s' − σe)/(s0 + s),
+    is within α everywhere exactly when s0 ≥ max_θ(|s' − σe|/tan α − s), Rb = √(s0² + e²) − Rr (the
+    largest found as the checks find theirs); and the flat-faced translating face's curvature,
     Rb = ρreq − min(s + s'').
 
     Parameters
@@ -142,7 +164,9 @@ def size_base_circle(
     r_p: float | None = None
     r_c: float | None = None
     grid = lift_grid(spec)
-    if max_pressure_angle_deg is not None and not model.flat_faced:
+    if max_pressure_angle_deg is not None and isinstance(model, KnifeEdgeTranslating):
+        r_p = _translating_pressure_radius(spec, grid, max_pressure_angle_deg)
+    if r_p is None and max_pressure_angle_deg is not None and not model.flat_faced:
         lim = max_pressure_angle_deg
         r_p = _solve_radius(spec, lambda s: lim - math.degrees(check_maxima(s, grid, ("pressure",))["pressure"][1]),
                             "pressure-angle")

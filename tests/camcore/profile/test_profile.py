@@ -414,12 +414,37 @@ def test_base_circle_knife_edge_constant_velocity():
     spec = make_cam(Follower("knife-edge"), 15.0, segments=segs)
     res = size_base_circle(spec, max_pressure_angle_deg=30.0)
     expect = (20.0 / math.pi) / math.tan(math.radians(30.0))
-    assert res.base_radius_mm == pytest.approx(expect, rel=1e-9)  # bisection to 1e-10 relative
+    # the closed form s0 = max(s'/tan α − s) of the checks' own maximum: to rounding (measured equal)
+    assert res.base_radius_mm == pytest.approx(expect, rel=1e-14)
     assert res.active_constraint == "pressure_angle"
     # roller: the pitch base radius Rb + Rr takes that role
     spec_r = make_cam(Follower("roller", roller_radius_mm=4.0), 15.0, segments=segs)
     assert size_base_circle(spec_r, max_pressure_angle_deg=30.0).base_radius_mm == pytest.approx(
-        expect - 4.0, rel=1e-9)
+        expect - 4.0, rel=1e-14)
+
+
+@pytest.mark.parametrize("follower", [Follower("knife-edge", offset_mm=7.5), Follower("roller", offset_mm=-12.0,
+                                                                                     roller_radius_mm=10.0)])
+@pytest.mark.parametrize("rotation", ["ccw", "cw"])
+@pytest.mark.parametrize("limit_deg", [20.0, 30.0, 45.0])
+def test_the_pressure_closed_form_is_the_root_of_the_checked_angle(follower: Follower, rotation: str,
+                                                                 limit_deg: float) -> None:
+    # a translating follower's radius for a pressure limit, s0 = max_θ(|s' − σe|/tan α − s), against the
+    # Illinois root of the checks' own largest pressure angle (the route an arm still takes): they agree to
+    # the root's 1e-10 (measured 1.4e-11 at most over 72 cams), and the closed form's cam meets the limit
+    # to rounding (7e-15° measured)
+    from camcore.profile import base_circle
+    from camcore.profile.checks import check_maxima, lift_grid
+
+    spec = make_cam(follower, 40.0, segments=[Segment("rise", 80, 30.0), Segment("dwell", 100),
+                                              Segment("return", 100, 30.0), Segment("dwell", 80)], rotation=rotation)
+    grid = lift_grid(spec)
+    closed = base_circle._translating_pressure_radius(spec, grid, limit_deg)
+    root = base_circle._solve_radius(
+        spec, lambda s: limit_deg - math.degrees(check_maxima(s, grid, ("pressure",))["pressure"][1]), "pressure")
+    assert closed == pytest.approx(root, rel=1e-10)
+    assert profile_checks(replace(spec, base_radius_mm=closed)).max_pressure_angle_deg == pytest.approx(
+        limit_deg, abs=1e-12)
 
 
 def test_base_circle_pressure_limit_is_met_exactly():
@@ -606,7 +631,9 @@ def test_base_circle_solver_converges_within_its_caps_at_the_extremes(
     pressure, curvature = limits
     result = size_base_circle(cam, pressure, curvature)
     solved = sum(limit is not None for limit in limits)
-    assert 0 < len(calls) <= 50 * solved
+    # a translating roller's pressure limit is a closed form (no root solve, no call) unless the geometry's
+    # floor decides; each root solve takes at most 50 calls
+    assert len(calls) <= 50 * solved
     rb = result.base_radius_mm
     checks = profile_checks(replace(cam, base_radius_mm=rb))
     if pressure is not None:
