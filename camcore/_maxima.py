@@ -28,6 +28,10 @@ GOLDEN_ITERATIONS = 80
 #: width [rad] to which :func:`periodic_grid_max` refines an extreme of a function of the cam angle
 PERIODIC_WIDTH = 1e-9
 
+#: width of :func:`polished_max`'s golden section before its parabolic step [-] (1e-5 rad: the vertex then
+#: lies within about |f‴/f″|·1e-10 of the maximum, the value within rounding of the extreme)
+POLISH_WIDTH = 1e-5
+
 #: points of each local grid of :func:`local_grid_max`: a round narrows an interval 16-fold,
 #: so a 7200-point grid's cell (8.7e-4 rad) reaches PERIODIC_WIDTH in 5 rounds
 LOCAL_GRID_POINTS = 33
@@ -82,6 +86,62 @@ def golden_max(fun: Callable[[FloatArray], FloatArray], a: float | FloatArray, b
         x1, f1 = np.where(left, new, x1), np.where(left, f_new, f1)
     better_first = f1 >= f2
     return np.where(better_first, x1, x2), np.where(better_first, f1, f2)
+
+
+def polished_max(fun: Callable[[FloatArray], FloatArray], a: float | FloatArray, b: float | FloatArray,
+                 width: float = POLISH_WIDTH) -> tuple[FloatArray, FloatArray]:
+    """Maxima of smooth unimodal functions on intervals [a, b]: golden section to ``width``, then one
+    parabolic step, all intervals together.
+
+    The golden section leaves each best point within ``width`` of its maximum; the parabola through
+    it and two points a quarter of that width either side (the end of [a, b] instead where the point
+    lies within ``width`` of it) puts its vertex within
+    about |f‴/f″|·width² of the maximum, where the value is within rounding of the extreme — in 16
+    evaluations of ``fun`` from a cell of a 0.25° grid instead of golden section's 32 to 1e-9 rad. The
+    answer is the best point evaluated, so it is never worse than the golden section's own, and a
+    maximum at an end of [a, b] (a kink there) is evaluated at the end itself.
+
+    Parameters
+    ----------
+    fun : callable
+        Vectorised function, evaluated elementwise (lane i only ever sees points of interval i).
+    a, b : float or ndarray
+        The intervals' ends [-].
+    width : float
+        Width of the golden section's last interval [-].
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        The best point of each interval and the value there [-].
+
+    References
+    ----------
+    Kiefer (1953), golden-section search; Brent, *Algorithms for Minimization without Derivatives*
+    (1973), ch. 5 (the parabolic step through three points).
+    """
+    lo = np.atleast_1d(np.asarray(a, dtype=np.float64))
+    hi = np.atleast_1d(np.asarray(b, dtype=np.float64))
+    x, f = golden_max(fun, lo, hi, width=width)
+    # two points a quarter of the width either side, or the interval's end where the best point lies
+    # within the width of it (a maximum at an end, a kink there, is then evaluated at the end itself)
+    step = 0.25 * width
+    xm = np.where(x - lo < width, lo, x - step)
+    xp = np.where(hi - x < width, hi, x + step)
+    fm, fp = fun(xm), fun(xp)
+    # the vertex of the parabola through (xm, fm), (x, f), (xp, fp); a lane with an infinite value has none
+    dm, dp = x - xm, x - xp
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        num = dm * dm * (f - fp) - dp * dp * (f - fm)
+        den = dm * (f - fp) - dp * (f - fm)
+        vertex = x - 0.5 * num / den
+    vertex = np.clip(np.where(np.isfinite(vertex), vertex, x), xm, xp)
+    fv = fun(vertex)
+    best_x, best_f = x, f
+    for xs, fs in ((xm, fm), (xp, fp), (vertex, fv)):
+        better = fs > best_f
+        best_x, best_f = np.where(better, xs, best_x), np.where(better, fs, best_f)
+    return best_x, best_f
 
 
 def local_grid_max(fun: Callable[[FloatArray], FloatArray], a: float | FloatArray, b: float | FloatArray,

@@ -6,11 +6,11 @@ then bisected), so the path has few elements. Each biarc is then *measured* agai
 exact curve both ways, and a biarc that misses the tolerance is fitted again tighter:
 
 * curve → path: the distance of the exact curve P(θ) from the biarc over its whole stretch
-  of θ: sampled, and every sampled local maximum refined by golden section in θ (so the
-  largest distance between the sample points is found, not only at them);
+  of θ: sampled, and every sampled local maximum refined by golden section in θ and a
+  parabolic step (so the largest distance between the sample points is found, not only at them);
 * path → curve: the distance of the biarc's points from the exact curve (each point's foot
   on the curve by Gauss-Newton from the nearest sample), sampled along each element and
-  the largest refined by golden section along the element.
+  the largest refined by golden section and a parabolic step along the element.
 
 Both are one-sided Hausdorff distances; the larger is the biarc's deviation.
 
@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._maxima import golden_max
+from .._maxima import polished_max
 from ..curves.base import FloatArray
 from ..deadline import checkpoint
 from ..errors import GeometryError, LimitExceededError
@@ -43,8 +43,15 @@ AIM = 0.8
 #: a stretch narrower than this is closed with a line whatever it deviates (a cusp of a
 #: gouging path, where the tangent turns back): 1e-10 rad moves a point by ~1e-8 mm
 NARROWEST_RAD = 1e-10
-#: Gauss-Newton steps of a foot point: each multiplies the error by ~|P − X|·κ ≤ 1e-2
+#: the golden section's last width along an element (its parameter u runs 0 … 1) before the parabolic
+#: step: the deviation is smooth along an arc, so the vertex lies within ~1e-8 of its maximum
+ELEMENT_POLISH_WIDTH = 1e-4
+#: Gauss-Newton steps of a foot point, at most: each multiplies the error by ~|P − X|·κ ≤ 1e-2
 FOOT_STEPS = 5
+#: a foot that moved less than this has converged [rad]: the next step would move it by ≤ 1e-2 of that
+#: (1e-12 rad, ~1e-10 mm along a 100 mm cam), and the distance is off by about the square of that over
+#: the distance (a foot is where the distance is least): below 1e-16 mm at a 1e-4 mm deviation
+FOOT_STEP_RAD = 1e-10
 
 
 @dataclass(frozen=True)
@@ -231,7 +238,8 @@ def measure(curve: OffsetCurve, spans: list[Span]) -> FloatArray:
 
     References
     ----------
-    Kiefer (1953), golden-section search; the Gauss-Newton foot point of a point on a curve.
+    Kiefer (1953), golden-section search; Brent (1973), the parabolic step; the Gauss-Newton foot
+    point of a point on a curve.
     """
     out = np.zeros(len(spans))
     live = [k for k, s in enumerate(spans) if s.theta1 > s.theta0]
@@ -261,7 +269,7 @@ def measure(curve: OffsetCurve, spans: list[Span]) -> FloatArray:
     if rows.size:
         a = theta[rows, np.maximum(cols - 1, 0)]
         b = theta[rows, np.minimum(cols + 1, m - 1)]
-        _, refined = golden_max(lambda t: to_path(rows, t), a, b, width=1e-9)
+        _, refined = polished_max(lambda t: to_path(rows, t), a, b)
         np.maximum.at(forward, rows, refined)
     # path → curve: each element's points, their feet on the curve (within the span's θ)
     owner = np.repeat(np.arange(len(live)), [len(spans[k].elements) for k in live])
@@ -271,19 +279,21 @@ def measure(curve: OffsetCurve, spans: list[Span]) -> FloatArray:
     px, py = arrays.point(lane_e, u)
     guess = _nearest_sample(theta[owner[lane_e]], *curve.points(theta.reshape(-1)), m, owner[lane_e], px, py)
     lo_e, hi_e = lo[owner[lane_e]], hi[owner[lane_e]]
-    back_samples = _foot_distance(curve, px, py, guess, lo_e, hi_e).reshape(count, m)
+    back_samples = _foot(curve, px, py, guess, lo_e, hi_e)[0].reshape(count, m)
     backward = back_samples.max(axis=1)
     best = np.argmax(back_samples, axis=1)
     ua = frac[np.maximum(best - 1, 0)]
     ub = frac[np.minimum(best + 1, m - 1)]
-    start_guess = guess.reshape(count, m)[np.arange(count), best]
+    foot = guess.reshape(count, m)[np.arange(count), best]
     idx = np.arange(count)
 
     def to_curve(lane: np.ndarray, uu: FloatArray) -> FloatArray:
+        # each search's points lie ever closer together: the last foot starts the next (a step or two)
         x, y = arrays.point(lane, uu)
-        return _foot_distance(curve, x, y, start_guess[lane], lo[owner[lane]], hi[owner[lane]])
+        distance, foot[lane] = _foot(curve, x, y, foot[lane], lo[owner[lane]], hi[owner[lane]])
+        return distance
 
-    _, refined_back = golden_max(lambda uu: to_curve(idx, uu), ua, ub, width=1e-7)
+    _, refined_back = polished_max(lambda uu: to_curve(idx, uu), ua, ub, width=ELEMENT_POLISH_WIDTH)
     backward = np.maximum(backward, refined_back)
     per_span = np.zeros(len(live))
     np.maximum.at(per_span, owner, backward)
@@ -308,17 +318,23 @@ def _nearest_sample(theta: FloatArray, cx: FloatArray, cy: FloatArray, m: int, o
     return theta[np.arange(theta.shape[0]), k]
 
 
-def _foot_distance(curve: OffsetCurve, px: FloatArray, py: FloatArray, theta: FloatArray, lo: FloatArray,
-                   hi: FloatArray) -> FloatArray:
-    """Distance of each point from the curve near θ: Gauss-Newton on (P(θ) − X)·P'(θ) = 0,
-    kept within [lo, hi]; any curve point bounds the distance from above, so a foot that
-    stops at an end still gives an upper bound."""
+def _foot(curve: OffsetCurve, px: FloatArray, py: FloatArray, theta: FloatArray, lo: FloatArray,
+          hi: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Distance of each point from the curve near θ, and the foot's θ: Gauss-Newton on
+    (P(θ) − X)·P'(θ) = 0, kept within [lo, hi], until no foot moves by more than FOOT_STEP_RAD (at
+    most FOOT_STEPS); any curve point bounds the distance from above, so a foot that stops at an end
+    still gives an upper bound."""
     t = theta.copy()
     for _ in range(FOOT_STEPS):
         x, y, tx, ty, stretch = curve.sample(t)
         dx, dy = x - px, y - py
         speed2 = stretch * stretch
         step = np.where(speed2 > 0, (dx * tx + dy * ty) * stretch / np.where(speed2 > 0, speed2, 1.0), 0.0)
-        t = np.clip(t - step, lo, hi)
+        moved = np.clip(t - step, lo, hi)
+        # every lane converged, or held at an end of its stretch (a NaN lane does not hold the rest)
+        done = not (np.abs(moved - t) > FOOT_STEP_RAD).any()
+        t = moved
+        if done:
+            break
     x, y = curve.points(t)
-    return np.hypot(x - px, y - py)
+    return np.hypot(x - px, y - py), t

@@ -6,13 +6,14 @@ lies strictly inside a grid cell and each function is smooth there. The best loc
 each function on the grid (up to :data:`MAX_CANDIDATES` of them, so a second basin whose
 sampled peak is a little lower than the first is refined too) are refined by golden section
 in both neighbouring cells, all lanes of all functions in one search (one evaluation of the
-state per step, however many functions and candidates). A cell is refined to
-:data:`camcore._maxima.PERIODIC_WIDTH` (1e-9 rad): the value is then within ½|f''|·1e-18 of the
-extreme, below the rounding of the functions themselves.
+state per step, however many functions and candidates). A cell is refined to 1e-5 rad and then
+by one parabolic step (:func:`camcore._maxima.polished_max`): the value is then within rounding of
+the extreme.
 
 References
 ----------
 .. [1] Kiefer (1953), golden-section search (a unimodal function between neighbouring grid points).
+.. [2] Brent (1973), *Algorithms for Minimization without Derivatives*, ch. 5: the parabolic step.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..._maxima import PERIODIC_WIDTH, golden_max
+from ..._maxima import polished_max
 from ...curves.base import FloatArray
 
 #: local maxima of the sampled function refined per function (the best ones by sampled value)
@@ -69,7 +70,7 @@ def refine_maxima(evaluate: Callable[[FloatArray], FloatArray], grid: FloatArray
         def lane_values(x: FloatArray) -> FloatArray:
             return _clean(np.atleast_2d(evaluate(x)))[lanes, columns]
 
-        t, v = golden_max(lane_values, np.asarray(lo), np.asarray(hi), width=PERIODIC_WIDTH)
+        t, v = polished_max(lane_values, np.asarray(lo), np.asarray(hi))
         for lane in range(lanes.size):
             j = int(lanes[lane])
             if v[lane] > best_v[j]:
