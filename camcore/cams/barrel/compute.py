@@ -9,18 +9,17 @@ References
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..._maxima import periodic_grid_max
+from ..._maxima import periodic_grid_maxima
 from ...curves.base import FloatArray
 from ...errors import InvalidParameterError
 from ...profile.checks import lift_corners as corners
 from ...results import doc
-from .geometry import BarrelCam, _curvature, _pitch_x, _pressure, _State, _state, check_grid, flank_points
+from .geometry import BarrelCam, _curvature, _pitch_x, _pressure, _state, check_grid, flank_points
 
 #: radii evenly across the roller's length (ends included) where the checks draw the developed curve
 ACROSS_LENGTH = 9
@@ -151,24 +150,36 @@ def barrel_checks(cam: BarrelCam) -> BarrelChecks:
     -------
     BarrelChecks
         Extremes over the whole turn: the best point of a 7200-angle grid (with every break
-        point and its left neighbour), refined by golden section between its neighbours.
+        point and its left neighbour), refined by local grids between its neighbours, every
+        extreme in one search.
 
     References
     ----------
     Kiefer (1953), golden-section search; camcore.profile.checks (the plate cam's undercut rule).
     """
     grid = check_grid(cam.lift)
-    br = np.asarray(cam.lift.breaks_rad, dtype=np.float64)
     x_in, x_out = cam.roller_ends_mm
+    # the developed rule at each radius r across the roller: the curve (r·θ', y), the roller's radius there
+    across = np.unique(np.append(np.linspace(x_in, x_out, ACROSS_LENGTH), cam.pitch_radius_mm)).tolist()
 
-    def extreme(fun: Callable[[_State], FloatArray], radius_mm: float | None = None) -> tuple[float, float]:
-        return periodic_grid_max(lambda t: fun(_state(cam, t, radius_mm)), grid, br)
+    def functions(theta: FloatArray) -> FloatArray:
+        """Every extreme's function at once (the lift's derivatives taken once): |φ| at the pitch
+        cylinder, the roller's inner and outer ends; ±κ of the pitch curve; ±κ at each radius across."""
+        h, h1, h2 = cam.lift.derivatives(theta, 2)
+        lift = (h, h1, h2)
+        st = _state(cam, theta, None, lift)
+        kappa = _curvature(st)
+        rows = [np.abs(_pressure(cam, st, _pitch_x(cam, st))), np.abs(_pressure(cam, st, x_in)),
+                np.abs(_pressure(cam, st, x_out)), kappa, -kappa]
+        for r in across:
+            k_r = _curvature(_state(cam, theta, r, lift))
+            rows += [k_r, -k_r]
+        return np.vstack(rows)
 
-    t_p, p_max = extreme(lambda st: np.abs(_pressure(cam, st, _pitch_x(cam, st))))
-    _, p_in = extreme(lambda st: np.abs(_pressure(cam, st, x_in)))
-    _, p_out = extreme(lambda st: np.abs(_pressure(cam, st, x_out)))
-    t_up, k_up = extreme(_curvature)  # the upper flank is convex where κ > 0
-    t_lo, k_lo = extreme(lambda st: -_curvature(st))
+    # all extremes refined together: the best point of the grid, then local grids (one evaluation of
+    # the lift per round for all of them)
+    found = periodic_grid_maxima(functions, grid, functions(grid))
+    (t_p, p_max), (_, p_in), (_, p_out), (t_up, k_up), (t_lo, k_lo) = found[:5]
     rho = cam.roller_radius_mm
     kinks = corners(cam.lift)
     radii: dict[str, tuple[float | None, float | None]] = {}
@@ -178,13 +189,11 @@ def barrel_checks(cam: BarrelCam) -> BarrelChecks:
             radii[name] = (0.0, kinks[0])
     k_abs = max(k_up, k_lo)
     outer = float(cam.pitch_radius_mm + 0.5 * cam.roller_length_mm)
-    # the developed rule at each radius r across the roller: the curve (r·θ', y), the roller's radius there
     worst: tuple[float, float, float] | None = None  # (radius of curvature, θ, r)
     under = {"upper": False, "lower": False}
-    for r in np.unique(np.append(np.linspace(x_in, x_out, ACROSS_LENGTH), cam.pitch_radius_mm)).tolist():
+    for i, r in enumerate(across):
         roller_r = r * math.tan(cam.cone_half_angle_rad) if cam.roller == "conical" else rho
-        for name, sign in (("upper", 1.0), ("lower", -1.0)):
-            t, k = extreme(lambda st, sign=sign: sign * _curvature(st), r)  # type: ignore[misc]
+        for name, (t, k) in zip(("upper", "lower"), found[5 + 2 * i:7 + 2 * i], strict=True):
             if k > 0:
                 under[name] = under[name] or roller_r >= 1.0 / k
                 if worst is None or 1.0 / k - roller_r < worst[0]:

@@ -233,9 +233,11 @@ class _State:
     y2: FloatArray
 
 
-def _state(cam: BarrelCam, theta: FloatArray, radius_mm: float | None = None) -> _State:
-    """The follower's state, its developed curve drawn on the cylinder of ``radius_mm`` (default R)."""
-    h, h1, h2 = cam.lift.derivatives(theta, 2)
+def _state(cam: BarrelCam, theta: FloatArray, radius_mm: float | None = None,
+           lift: tuple[FloatArray, FloatArray, FloatArray] | None = None) -> _State:
+    """The follower's state, its developed curve drawn on the cylinder of ``radius_mm`` (default R);
+    ``lift``: the lift and its two derivatives at θ when the caller has them (several radii at once)."""
+    h, h1, h2 = cam.lift.derivatives(theta, 2) if lift is None else lift
     r = cam.pitch_radius_mm if radius_mm is None else radius_mm
     if cam.follower == "translating":
         zero = np.zeros_like(h)
