@@ -28,7 +28,7 @@ from camcore.curves.batch import characteristic_values
 from camcore.indexer import Indexer, Load, size
 from camcore.indexer.sweep import size_sweep
 
-from . import peers, request_rates, scalar_port
+from . import peers, readme_routes, request_rates, scalar_port
 from .servers import PINNING, WRK_MISSING, Server, wrk
 from .timing import figure, machine_info, paired_ratios, timed
 
@@ -40,7 +40,7 @@ FIGURES = [
     "table_vs_sin_floor", "scalar_port_vs_table", "inverse_vs_table", "ms_table_vs_numpy", "cycloid_table_vs_mechanism",
     "json_vs_orjson_floor", "http_table_vs_ceiling", "http_p99_ms", "workers_scaling", "profile_rps",
     "characteristics_new_curve_rps", "sizing_rps", "base_circle_ms", "cold_start_vs_bare_fastapi", "sizing_sweep",
-    "sweep_vs_single_sizings", "characteristics_sweep_vs_single",
+    "sweep_vs_single_sizings", "characteristics_sweep_vs_single", "readme_routes_ms",
 ]
 REQUEST_FIGURES = {"profile_rps", "characteristics_new_curve_rps", "sizing_rps", "base_circle_ms"}
 
@@ -287,6 +287,7 @@ def run(smoke: bool, only: set[str] | None) -> dict[str, Any]:
         "ms_table_vs_numpy": lambda: peers.ms_table_vs_numpy(sizes["table"], r),
         "cycloid_table_vs_mechanism": lambda: peers.cycloid_table_vs_mechanism(sizes["table"], r),
         "cold_start_vs_bare_fastapi": lambda: request_rates.cold_start(1 if smoke else 5),
+        "readme_routes_ms": lambda: readme_routes.readme_routes_ms(1 if smoke else 30),
     }
     out: dict[str, Any] = {"mode": "smoke" if smoke else "full", "machine": machine_info()}
     figures: dict[str, Any] = {}

@@ -18,7 +18,7 @@ FIGURES = {
     "table_vs_sin_floor", "scalar_port_vs_table", "inverse_vs_table", "ms_table_vs_numpy", "cycloid_table_vs_mechanism",
     "json_vs_orjson_floor", "http_table_vs_ceiling", "http_p99_ms", "workers_scaling", "profile_rps",
     "characteristics_new_curve_rps", "sizing_rps", "base_circle_ms", "cold_start_vs_bare_fastapi", "sizing_sweep",
-    "sweep_vs_single_sizings", "characteristics_sweep_vs_single",
+    "sweep_vs_single_sizings", "characteristics_sweep_vs_single", "readme_routes_ms",
 }
 
 
