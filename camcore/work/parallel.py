@@ -4,25 +4,7 @@ measurements are in camcore.work.cams)."""
 
 from __future__ import annotations
 
-from .cams import (
-    PARALLEL_CONTACT_VALUES,
-    PARALLEL_CONTACTS_PER_SAMPLE,
-    PARALLEL_FIT_ELEMENT_S,
-    PARALLEL_FIT_PIECE_S,
-    PARALLEL_FIT_PLATE_S,
-    PARALLEL_PLATE_S,
-    PARALLEL_PLATE_SAMPLE_S,
-    PARALLEL_POINT_VALUES,
-    PARALLEL_POINTS_PER_SAMPLE,
-    PARALLEL_STEP_ELEMENT_S,
-    PARALLEL_STEP_PLATE_S,
-    PARALLEL_STL_FACET_S,
-    PARALLEL_STL_PLATE_S,
-    PLATE_ROLLER_SAMPLE_S,
-    parallel_elements,
-    parallel_facets,
-    parallel_pieces,
-)
+from . import cams
 from .estimate import Field, WorkEstimate, WorkTerm, per_item_work
 
 
@@ -47,13 +29,13 @@ def trace_work(plates: int, rollers_per_plate: int, traced: int, at: Field = ())
 
     References
     ----------
-    camcore.cams.parallel.trace; the measurements beside :data:`PARALLEL_PLATE_S`.
+    camcore.cams.parallel.trace; the measurements beside :data:`camcore.work.cams.PARALLEL_PLATE_S`.
     """
     return WorkEstimate((
-        WorkTerm((*at, "plates"), f"tracing {plates} plates", plates * PARALLEL_PLATE_S),
+        WorkTerm((*at, "plates"), f"tracing {plates} plates", plates * cams.PARALLEL_PLATE_S),
         WorkTerm((*at, "samples"), f"walking {plates} plates × {traced} traced cam angles",
-                 plates * traced * PARALLEL_PLATE_SAMPLE_S))) + per_item_work(
-        plates * rollers_per_plate * traced, PLATE_ROLLER_SAMPLE_S, (*at, "samples"),
+                 plates * traced * cams.PARALLEL_PLATE_SAMPLE_S))) + per_item_work(
+        plates * rollers_per_plate * traced, cams.PLATE_ROLLER_SAMPLE_S, (*at, "samples"),
         f"{plates} plates × {rollers_per_plate} rollers × {traced} traced cam angles")
 
 
@@ -77,15 +59,15 @@ def fit_work(center_distance_mm: float, rollers_per_plate: int, tolerance_mm: fl
     Returns
     -------
     tuple
-        The work, and each plate's pieces and elements at most [-] (parallel_pieces, parallel_elements).
+        The work, and each plate's pieces and elements at most [-] (cams.parallel_pieces, cams.parallel_elements).
 
     References
     ----------
-    camcore.cams.parallel.fit; the measurements beside :data:`PARALLEL_FIT_PLATE_S`.
+    camcore.cams.parallel.fit; the measurements beside :data:`camcore.work.cams.PARALLEL_FIT_PLATE_S`.
     """
-    pieces = parallel_pieces(rollers_per_plate)
-    elements = parallel_elements(center_distance_mm, tolerance_mm, pieces)
-    seconds = plates * (PARALLEL_FIT_PLATE_S + pieces * PARALLEL_FIT_PIECE_S + elements * PARALLEL_FIT_ELEMENT_S)
+    pieces = cams.parallel_pieces(rollers_per_plate)
+    elements = cams.parallel_elements(center_distance_mm, tolerance_mm, pieces)
+    seconds = plates * (cams.PARALLEL_FIT_PLATE_S + pieces * cams.PARALLEL_FIT_PIECE_S + elements * cams.PARALLEL_FIT_ELEMENT_S)
     return WorkEstimate((WorkTerm(field, f"fitting {plates} plates' contours, about {elements} lines and arcs each",
                                   seconds),)), pieces, elements
 
@@ -119,16 +101,16 @@ def solid_work(center_distance_mm: float, rollers_per_plate: int, plates: int, t
 
     References
     ----------
-    camcore.export.parallel_solid; the measurements beside :data:`PARALLEL_STEP_PLATE_S`.
+    camcore.export.parallel_solid; the measurements beside :data:`camcore.work.cams.PARALLEL_STEP_PLATE_S`.
     """
     tolerance = tolerance_mm / (2 if stl else 1)
     fit, pieces, elements = fit_work(center_distance_mm, rollers_per_plate, tolerance, plates, field)
     if stl:
-        facets = parallel_facets(center_distance_mm, tolerance, pieces, elements, bore_diameter_mm)
-        kernel = plates * (PARALLEL_STL_PLATE_S + facets * PARALLEL_STL_FACET_S)
+        facets = cams.parallel_facets(center_distance_mm, tolerance, pieces, elements, bore_diameter_mm)
+        kernel = plates * (cams.PARALLEL_STL_PLATE_S + facets * cams.PARALLEL_STL_FACET_S)
         what = f"meshing {plates} plates of about {facets} facets each"
     else:
-        kernel = plates * (PARALLEL_STEP_PLATE_S + elements * PARALLEL_STEP_ELEMENT_S)
+        kernel = plates * (cams.PARALLEL_STEP_PLATE_S + elements * cams.PARALLEL_STEP_ELEMENT_S)
         what = f"the STEP solids of {plates} plates, about {elements} edges each"
     return fit + WorkEstimate((WorkTerm(field, what, kernel),))
 
@@ -146,13 +128,13 @@ def contour_points(plates: int, traced: int) -> int:
     Returns
     -------
     int
-        Points of all plates [-]: :data:`PARALLEL_POINTS_PER_SAMPLE` a traced cam angle.
+        Points of all plates [-]: :data:`camcore.work.cams.PARALLEL_POINTS_PER_SAMPLE` a traced cam angle.
 
     References
     ----------
-    The traces measured beside :data:`PARALLEL_POINTS_PER_SAMPLE`.
+    The traces measured beside :data:`camcore.work.cams.PARALLEL_POINTS_PER_SAMPLE`.
     """
-    return plates * PARALLEL_POINTS_PER_SAMPLE * traced
+    return plates * cams.PARALLEL_POINTS_PER_SAMPLE * traced
 
 
 def answer_values(plates: int, samples: int, traced: int) -> int:
@@ -174,7 +156,7 @@ def answer_values(plates: int, samples: int, traced: int) -> int:
 
     References
     ----------
-    The traces measured beside :data:`PARALLEL_POINTS_PER_SAMPLE`.
+    The traces measured beside :data:`camcore.work.cams.PARALLEL_POINTS_PER_SAMPLE`.
     """
-    return (PARALLEL_POINT_VALUES * contour_points(plates, traced)
-            + plates * PARALLEL_CONTACT_VALUES * PARALLEL_CONTACTS_PER_SAMPLE * samples)
+    return (cams.PARALLEL_POINT_VALUES * contour_points(plates, traced)
+            + plates * cams.PARALLEL_CONTACT_VALUES * cams.PARALLEL_CONTACTS_PER_SAMPLE * samples)
