@@ -104,6 +104,13 @@ class DefaultsInDescriptions(BaseModel):
         return schema
 
 
+#: the slowest camshaft or input speed a request may give [rpm] (a turn in 1.9 years): slower, a speed's
+#: square in the inertia forces and the flywheel underflows, and a turn's time overflows (the indexers'
+#: own bound since the first round)
+SLOWEST_RPM = 1e-6
+#: a camshaft or input speed [rpm]
+SpeedRpm = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=SLOWEST_RPM, le=BIG)]
+
 #: the smallest normal double; a nonzero number below it in magnitude is subnormal
 SMALLEST_NORMAL = sys.float_info.min
 SUBNORMAL_RULE = (f"must be 0 or at least {SMALLEST_NORMAL!r} in magnitude (the smallest normal double): a subnormal "

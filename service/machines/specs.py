@@ -25,6 +25,7 @@ from service.specs import (
     FieldRuleError,
     Finite,
     Spec,
+    SpeedRpm,
     absent,
     exactly_one,
     examples,
@@ -215,7 +216,7 @@ class MasterSpec(Spec):
 
     model_config = examples({"speed_rpm": 120}, rules=[rule("give exactly one of speed_rpm and cycle_time_s",
                                                             exactly_one("speed_rpm", "cycle_time_s"))])
-    speed_rpm: Positive | None = Field(None, description="N [rpm]")
+    speed_rpm: SpeedRpm | None = Field(None, description="N [rpm]")
     cycle_time_s: Positive | None = Field(None, description="one turn, 60/N [s]")
 
     @model_validator(mode="after")
@@ -306,7 +307,7 @@ class MachineRequest(Spec):
     drive: DriveSpec | None = None
     samples: Annotated[int, Field(ge=2), JSON_INTEGER] = Field(
         361, description="rows of the timing and torque tables: master angles 0…360° inclusive, evenly spaced")
-    speeds_rpm: list[Positive] = Field(default_factory=list, max_length=MAX_SPEEDS,
+    speeds_rpm: list[SpeedRpm] = Field(default_factory=list, max_length=MAX_SPEEDS,
                                        description="a sweep: the summary at each of these camshaft speeds")
     cam_table_axis: AxisName | None = Field(
         None, description="?format=cam-table: the axis whose servo cam table is written (over the master angle, at "

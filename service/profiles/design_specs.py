@@ -37,6 +37,7 @@ from service.specs import (
     FieldRuleError,
     Finite,
     Spec,
+    SpeedRpm,
     absent,
     all_of,
     exactly_one,
@@ -192,7 +193,7 @@ class ProfileDesignRequest(Spec):
         None, description="one Bezier or points curve of lift over the drive angle")
     motion: MotionSpec | None = Field(None, description="a motion program over the drive angle that closes")
     base_radius_mm: Positive | None = Field(None, description="the base radius when it is not free [mm]")
-    speed_rpm: Positive | Annotated[list[Positive], Field(min_length=2, max_length=2)] | None = Field(
+    speed_rpm: SpeedRpm | Annotated[list[SpeedRpm], Field(min_length=2, max_length=2)] | None = Field(
         None, description="the camshaft's speed, or its range [lo, hi] [rpm]")
     mass_kg: Positive | None = Field(None, description="translating: the moving mass, with the spring's share")
     spring_rate_n_mm: Positive | None = Field(None, description="translating: the spring rate when not free")

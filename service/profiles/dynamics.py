@@ -27,6 +27,7 @@ from service.profiles.charts import contact_force_chart
 from service.profiles.dynamics_specs import DYNAMICS_EXAMPLES, DynamicsAnswer, DynamicsRequest
 from service.profiles.operations import ProfilePlotQuery, cam, plot_profile_spec, schedule_field, schedule_work, spans
 from service.profiles.specs import ProfileSpec
+from service.specs import BIG, SLOWEST_RPM
 
 
 def _work(ctx: Context, body: DynamicsRequest, fmt: Format | None) -> WorkEstimate:
@@ -77,7 +78,7 @@ _LOAD_FIELDS = ("mass_kg", "spring_rate_n_mm", "preload_n", "external_force_n", 
 class DynamicsPlotQuery(ProfilePlotQuery):
     """The profile chart's cam, and the follower's load (the fields of computeFollowerDynamics)."""
 
-    speed_rpm: float = Field(gt=0, le=1e6, allow_inf_nan=False, description="N, the camshaft's speed")
+    speed_rpm: float = Field(ge=SLOWEST_RPM, le=BIG, allow_inf_nan=False, description="N, the camshaft's speed")
     mass_kg: Load = Field(None, gt=0, le=1e6, allow_inf_nan=False, description="translating")
     spring_rate_n_mm: Load = Field(None, gt=0, le=1e6, allow_inf_nan=False, description="translating")
     preload_n: Load = Field(None, ge=-1e6, le=1e6, allow_inf_nan=False, description="translating; default 0")

@@ -19,7 +19,7 @@ from camcore.profile.dynamics.load import STEEL_POISSON_RATIO, STEEL_YOUNGS_MODU
 from service.models import answer_model
 from service.motions.specs import MAKINO_CYCLE
 from service.profiles.specs import OSCILLATING, ROLLER_PROFILE_EXAMPLE, TRANSLATING, ProfileSpec
-from service.specs import BIG, JSON_INTEGER, Finite, Spec, absent, examples, given, rule
+from service.specs import BIG, JSON_INTEGER, Finite, Spec, SpeedRpm, absent, examples, given, rule
 
 Positive = Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0, le=BIG)]
 NonNegative = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0, le=BIG)]
@@ -146,7 +146,7 @@ class DynamicsRequest(ForceClosedFollower):
     """
 
     model_config = examples(DYNAMICS_EXAMPLE, rules=FOLLOWER_LOAD_RULES)
-    speed_rpm: Positive = Field(description="N, the camshaft's speed")
+    speed_rpm: SpeedRpm = Field(description="N, the camshaft's speed")
     samples: Annotated[int, Field(ge=2), JSON_INTEGER] = Field(
         361, description="rows of the table, evenly over 0-360° of cam angle, both ends included")
 

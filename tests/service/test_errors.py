@@ -139,3 +139,43 @@ async def test_get_inverse_reads_numbers_and_names_a_bad_one(client: httpx.Async
     spec = (await client.get("/openapi.json")).json()
     s = next(p for p in spec["paths"]["/v1/curves/{name}/inverse"]["get"]["parameters"] if p["name"] == "s")
     assert s["schema"]["type"] == "array" and s["schema"]["items"]["type"] == "number"
+
+
+def _with_speed(body: dict[str, Any], path: tuple[str | int, ...], speed: Any) -> dict[str, Any]:
+    import copy
+
+    out = copy.deepcopy(body)
+    node: Any = out
+    for key in path[:-1]:
+        node = node[key]
+    node[path[-1]] = speed
+    return out
+
+
+def _speed_cases() -> list[Any]:
+    from service.machines.specs import MACHINE_EXAMPLES
+    from service.profiles.design_specs import OSCILLATING_DESIGN
+    from service.profiles.dynamics_specs import DYNAMICS_EXAMPLE
+
+    machine = next(iter(MACHINE_EXAMPLES.values()))["value"]
+    return [
+        pytest.param("/v1/profiles/dynamics", DYNAMICS_EXAMPLE, ("speed_rpm",), id="dynamics"),
+        pytest.param("/v1/profiles/design", OSCILLATING_DESIGN, ("speed_rpm", 0), id="design-range"),
+        pytest.param("/v1/machines", machine, ("master", "speed_rpm"), id="machine-master"),
+        pytest.param("/v1/machines", {**machine, "speeds_rpm": [30, 60]}, ("speeds_rpm", 1), id="machine-sweep"),
+    ]
+
+
+@pytest.mark.parametrize(("path", "body", "where"), _speed_cases())
+async def test_a_speed_below_a_micro_rpm_is_refused_at_its_field(client: httpx.AsyncClient, path: str,
+                                                                 body: dict[str, Any], where: tuple[Any, ...]) -> None:
+    # the smallest normal double passed a "> 0" bound, and the machine's flywheel divided by its ω² (which
+    # underflows to 0): a 500; every speed now has the indexers' bound, 1e-6 rpm (a turn in 1.9 years)
+    for speed in (2.2250738585072014e-308, 9.9e-7):
+        r = await client.post(path, json=_with_speed(body, where, speed))
+        assert r.status_code == 422, r.text
+        errors = r.json()["errors"]
+        # at the field (a union's branch named between, as pydantic reports a union: the design's one speed or range)
+        assert any(e["loc"][:2] == ["body", where[0]] and e["loc"][-1] == where[-1]
+                   and "greater than or equal to 0.000001" in e["msg"] for e in errors), errors
+    assert (await client.post(path, json=_with_speed(body, where, 1e-6))).status_code in (200, 422)

@@ -102,7 +102,7 @@ def with_(body: dict[str, object], **changes: object) -> dict[str, object]:
     (with_(BODY, mass_kg=-1), "mass_kg", "greater than 0"),
     (with_(BODY, spring_rate_n_mm=0), "spring_rate_n_mm", "greater than 0"),
     (with_(BODY, damping_n_s_mm=-0.1), "damping_n_s_mm", "greater than or equal to 0"),
-    (with_(BODY, speed_rpm=0), "speed_rpm", "greater than 0"),
+    (with_(BODY, speed_rpm=0), "speed_rpm", "greater than or equal to 0.000001"),
     (with_(BODY, safety_margin_n=-1), "safety_margin_n", "greater than or equal to 0"),
     (with_(BODY, samples=1), "samples", "greater than or equal to 2"),
     (with_(BODY, roller={"width_mm": 12, "poisson_ratio": 0.7}), "poisson_ratio", "less than or equal to 0.5"),
