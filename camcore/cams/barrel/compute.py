@@ -168,13 +168,15 @@ def barrel_checks(cam: BarrelCam) -> BarrelChecks:
         h, h1, h2 = cam.lift.derivatives(theta, 2)
         lift = (h, h1, h2)
         st = _state(cam, theta, None, lift)
-        kappa = _curvature(st)
-        rows = [np.abs(_pressure(cam, st, _pitch_x(cam, st))), np.abs(_pressure(cam, st, x_in)),
-                np.abs(_pressure(cam, st, x_out)), kappa, -kappa]
-        for r in across:
-            k_r = _curvature(_state(cam, theta, r, lift))
-            rows += [k_r, -k_r]
-        return np.vstack(rows)
+        out = np.empty((5 + 2 * len(across), theta.size))
+        out[0], out[1], out[2] = (np.abs(_pressure(cam, st, x)) for x in (_pitch_x(cam, st), x_in, x_out))
+        out[3] = _curvature(st)
+        for j, r in enumerate(across):
+            # a translating follower's developed curve (rθ, s) bends by r·s''/(r² + s'²)^{3/2} at radius r
+            out[5 + 2 * j] = (r * h2 / np.hypot(r, h1) ** 3 if cam.follower == "translating"
+                          else _curvature(_state(cam, theta, r, lift)))
+        out[4::2] = -out[3::2]  # each curvature's other sign: the other flank
+        return out
 
     # all extremes refined together: the best point of the grid, then local grids (one evaluation of
     # the lift per round for all of them)
