@@ -331,7 +331,8 @@ def smallest_feasible(margin: Callable[[float], float], lo: float, start: float,
     return b
 
 
-def scan_roots(fun: Callable[[FloatArray], FloatArray], grid: FloatArray) -> tuple[list[float], FloatArray]:
+def scan_roots(fun: Callable[[FloatArray], FloatArray], grid: FloatArray,
+               values: FloatArray | None = None) -> tuple[list[float], FloatArray]:
     """Every root of a scalar function that a grid brackets, refined to machine precision.
 
     Parameters
@@ -340,6 +341,8 @@ def scan_roots(fun: Callable[[FloatArray], FloatArray], grid: FloatArray) -> tup
         Vectorised function of x; a non-finite value (x where it is not defined) brackets nothing.
     grid : ndarray
         Sorted points x; the function is assumed to change sign at most once between neighbours.
+    values : ndarray, optional
+        ``fun(grid)``, when the caller has it.
 
     Returns
     -------
@@ -356,7 +359,7 @@ def scan_roots(fun: Callable[[FloatArray], FloatArray], grid: FloatArray) -> tup
     ----------
     Dowell and Jarratt (1971), the Illinois method.
     """
-    values = np.asarray(fun(grid), dtype=np.float64)
+    values = np.asarray(fun(grid) if values is None else values, dtype=np.float64)
     roots = [float(x) for x in grid[values == 0]]
     cells = np.flatnonzero(np.isfinite(values[:-1]) & np.isfinite(values[1:]) & (values[:-1] * values[1:] < 0))
     if cells.size:

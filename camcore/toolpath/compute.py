@@ -30,7 +30,7 @@ from typing import Literal
 
 import numpy as np
 
-from .._maxima import periodic_grid_max
+from .._maxima import periodic_grid_maxima
 from .._solvers import scan_roots
 from ..curves.base import FloatArray
 from ..errors import GeometryError, InvalidParameterError
@@ -39,7 +39,7 @@ from ..profile.checks import check_grid, corners
 from ..profile.lift import TWO_PI
 from .fit import Budget, fit_stretch
 from .geometry import Element, corner_arc, path_area
-from .offset import LEFT_LIMIT_RAD, OffsetCurve, base_curve, corner_turn
+from .offset import LEFT_LIMIT_RAD, BaseSample, OffsetCurve, base_curve, corner_turn
 
 Side = Literal["outside", "inside", "groove"]
 SIDES: tuple[str, ...] = ("outside", "inside", "groove")
@@ -233,8 +233,9 @@ def _path(spec: CamSpec, wall: str, w: float, eps: float, rt: float, tol: float,
           budget: Budget, groove: bool = False) -> CutterPath:
     corner_rad = [math.radians(c) for c in corners(spec)]
     turns = {c: corner_turn(spec, c) for c in corner_rad}
-    _check_wall(spec, wall, w, corner_rad, turns)
-    radius, at_rad = concave_radius(spec, w, eps, corner_rad, turns)
+    on_grid = BaseOnGrid.of(spec)  # the wall's checks, its concave radius and the path's cusps all scan it
+    _check_wall(spec, wall, w, corner_rad, turns, on_grid)
+    radius, at_rad = concave_radius(spec, w, eps, corner_rad, turns, on_grid)
     gouges = rt > radius
     where = "" if at_rad is None else f" at cam angle {math.degrees(at_rad):.4g}°"
     if gouges and not allow_gouge:
@@ -244,7 +245,7 @@ def _path(spec: CamSpec, wall: str, w: float, eps: float, rt: float, tol: float,
             "Use a smaller tool, or set allow_gouge.", field=("tool_radius_mm",))
     d = w + eps * rt
     curve = OffsetCurve(spec, d)
-    bounds = sorted({0.0, TWO_PI, *[c for c in corner_rad if c > 0.0], *_cusps(spec, d)})
+    bounds = sorted({0.0, TWO_PI, *[c for c in corner_rad if c > 0.0], *_cusps(spec, d, on_grid)})
     elements: list[Element] = []
     deviation = 0.0
     for k in range(len(bounds) - 1):
@@ -313,7 +314,23 @@ def _corner(curve: OffsetCurve, theta: float, budget: Budget) -> list[Element]:
     return [arc]
 
 
-def _check_wall(spec: CamSpec, wall: str, w: float, corner_rad: list[float], turns: dict[float, float]) -> None:
+@dataclass(frozen=True)
+class BaseOnGrid:
+    """A cam's base curve on its check grid (:func:`camcore.profile.checks.check_grid`): what the
+    scans of one wall share."""
+
+    grid: FloatArray
+    base: BaseSample
+
+    @classmethod
+    def of(cls, spec: CamSpec) -> BaseOnGrid:
+        """The base curve of ``spec`` on its check grid."""
+        grid = check_grid(spec)
+        return cls(grid, base_curve(spec, grid))
+
+
+def _check_wall(spec: CamSpec, wall: str, w: float, corner_rad: list[float], turns: dict[float, float],
+                on_grid: BaseOnGrid) -> None:
     """Refuse a wall that loops (undercut) or has a corner its offset cannot follow."""
     name = wall.replace("-", " ")
     if corner_rad and spec.model.flat_faced:
@@ -325,15 +342,14 @@ def _check_wall(spec: CamSpec, wall: str, w: float, corner_rad: list[float], tur
                 f"the {name} has a sharp corner at cam angle {math.degrees(c):.6g}° (the lift's velocity jumps there); "
                 "a toolpath is made for walls whose corners are rounded by the roller: give the motion a continuous "
                 "velocity.", field=("profile",))
-    grid = check_grid(spec)
-    base = base_curve(spec, grid)
+    base = on_grid.base
     scale = float(np.abs(base.a).max())
 
-    def shrink(t: FloatArray) -> FloatArray:
-        b = base_curve(spec, t)
+    def shrink(b: BaseSample) -> FloatArray:
         return -(b.a + w * b.b) / scale
 
-    worst_t, worst = periodic_grid_max(shrink, grid, np.asarray(spec.lift.breaks_rad))
+    ((worst_t, worst),) = periodic_grid_maxima(lambda t: shrink(base_curve(spec, t))[None, :], on_grid.grid,
+                                               shrink(base)[None, :])
     if worst >= 0.0:
         raise GeometryError(
             f"the {name} is undercut at cam angle {math.degrees(worst_t):.6g}°: its curvature is tighter than the "
@@ -342,7 +358,7 @@ def _check_wall(spec: CamSpec, wall: str, w: float, corner_rad: list[float], tur
 
 
 def concave_radius(spec: CamSpec, w: float, eps: float, corner_rad: list[float],
-                   turns: dict[float, float]) -> tuple[float, float | None]:
+                   turns: dict[float, float], on_grid: BaseOnGrid | None = None) -> tuple[float, float | None]:
     """The smallest concave radius of curvature a tool on side ε of the wall w must follow.
 
     Parameters
@@ -357,6 +373,8 @@ def concave_radius(spec: CamSpec, w: float, eps: float, corner_rad: list[float],
         The base curve's corners [rad].
     turns : dict
         The normal's turn at each corner, positive where convex [rad].
+    on_grid : BaseOnGrid, optional
+        The base curve on the check grid, when the caller has it.
 
     Returns
     -------
@@ -369,13 +387,13 @@ def concave_radius(spec: CamSpec, w: float, eps: float, corner_rad: list[float],
     Farouki and Neff (1990): an offset at distance d of a curve of curvature κ has curvature
     κ/(1 + dκ); a tool of radius Rt fits a concave radius ρ only if Rt ≤ ρ.
     """
-    grid = check_grid(spec)
+    on_grid = BaseOnGrid.of(spec) if on_grid is None else on_grid
 
-    def concave_curvature(t: FloatArray) -> FloatArray:
-        b = base_curve(spec, t)
+    def concave_curvature(b: BaseSample) -> FloatArray:
         return -eps * b.b / (b.a + w * b.b)
 
-    at, k = periodic_grid_max(concave_curvature, grid, np.asarray(spec.lift.breaks_rad))
+    ((at, k),) = periodic_grid_maxima(lambda t: concave_curvature(base_curve(spec, t))[None, :], on_grid.grid,
+                                      concave_curvature(on_grid.base)[None, :])
     radius, where = (1.0 / k, at) if k > 0 else (math.inf, None)
     for c in corner_rad:
         # a corner concave towards the tool: the wall there is the roller's arc, radius |w|
@@ -384,13 +402,10 @@ def concave_radius(spec: CamSpec, w: float, eps: float, corner_rad: list[float],
     return radius, where
 
 
-def _cusps(spec: CamSpec, d: float) -> list[float]:
+def _cusps(spec: CamSpec, d: float, on_grid: BaseOnGrid) -> list[float]:
     """Cam angles where the offset turns back (its stretch a + d·b changes sign), at breaks too."""
-    grid = check_grid(spec)
-
-    def stretch(t: FloatArray) -> FloatArray:
-        b = base_curve(spec, t)
+    def stretch(b: BaseSample) -> FloatArray:
         return b.a + d * b.b
 
-    roots, _values = scan_roots(stretch, grid)
+    roots, _values = scan_roots(lambda t: stretch(base_curve(spec, t)), on_grid.grid, stretch(on_grid.base))
     return [r for r in roots if 0.0 < r < TWO_PI]
