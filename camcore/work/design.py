@@ -12,14 +12,15 @@ import math
 from collections.abc import Sequence
 
 from ..curves.kinds import LawCost
+from ..profile.design import search
 from .estimate import Field, WorkEstimate, WorkTerm
 from .profiles import DYNAMICS_PER_CHECKS, base_circle_work, checks_work
 
-#: points of the nested search's coarse grids (outer, inner) and of the three-variable grid; the search
-#: stops at 1e-5 of each range (camcore.profile.design.search, where these are set)
-NESTED_OUTER, NESTED_INNER, GRID_3D, LOCAL_3D, STARTS_3D = 13, 9, 7, 5, 2
-LOCATION_TOLERANCE = 1e-5
-GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
+#: points of the nested search's coarse grids (outer, inner), read from the search itself, which also stops
+#: at LOCATION_TOLERANCE of each range and counts its golden steps (golden_steps)
+NESTED_OUTER, NESTED_INNER = search.NESTED_OUTER_POINTS, search.NESTED_INNER_POINTS
+LOCATION_TOLERANCE = search.LOCATION_TOLERANCE
+golden_steps = search.golden_steps
 #: evaluations of a candidate's limits at one base radius per candidate the search solves, measured over
 #: the cases of tests/camcore/profile/test_design.py: 1.0 where the pressure's closed form decides (nothing
 #: else can bind), 1.0-3.0 with curvature limits (the bracket's ends and the Illinois steps where one
@@ -60,26 +61,6 @@ SPRING_RUN_SHARE = 0.35
 STRESS_RUNS = 25
 STRESS_RUNS_TRADED = 140
 VALUE_CHECKS = 3
-
-
-def golden_steps(points: int) -> int:
-    """Golden-section steps that close two coarse cells of ``points`` to the search's tolerance.
-
-    Parameters
-    ----------
-    points : int
-        Points of the coarse grid over the variable's range [-].
-
-    Returns
-    -------
-    int
-        Steps [-].
-
-    References
-    ----------
-    Kiefer (1953), golden-section search.
-    """
-    return math.ceil(math.log(LOCATION_TOLERANCE * (points - 1) / 2.0) / math.log(GOLDEN))
 
 
 def search_candidates(variables: int, trades: bool) -> int:
