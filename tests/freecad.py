@@ -39,3 +39,24 @@ def measure(document: Path, home: Path) -> dict[str, Any]:
     assert ran.returncode == 0 and out.exists(), f"the measuring script wrote nothing for {document}: {ran.stdout}"
     result: dict[str, Any] = json.loads(out.read_text(encoding="utf-8"))
     return result
+
+
+#: what FreeCAD's own STEP reader makes of a file: its volume, validity, closure, solids and area
+READ_STEP = """import json, os
+import Part
+shape = Part.Shape()
+shape.read(os.environ["CAMCORE_STEP"])
+print("camcore:", json.dumps({"volume_mm3": shape.Volume, "valid": shape.isValid(), "closed": shape.isClosed(),
+                              "solids": len(shape.Solids), "area_mm2": shape.Area}))
+"""
+
+
+def read_step(content: bytes, folder: Path) -> dict[str, Any]:
+    """A STEP file read by FreeCAD (an independent reader): volume_mm3, valid, closed, solids, area_mm2."""
+    step, script = folder / "solid.step", folder / "read_step.py"
+    step.write_bytes(content)
+    script.write_text(READ_STEP, encoding="utf-8")
+    ran = run(script, folder / "home", CAMCORE_STEP=str(step))
+    assert "camcore: " in ran.stdout, ran.stdout
+    result: dict[str, Any] = json.loads(ran.stdout.split("camcore: ", 1)[1].splitlines()[0])
+    return result

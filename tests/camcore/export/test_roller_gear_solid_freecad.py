@@ -5,7 +5,6 @@ flank points (tests/roller_gear_reference.py)."""
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
@@ -16,29 +15,16 @@ from camcore.cams.roller_gear import make_roller_gear_cam
 from camcore.export import SOLID_FORMATS
 from camcore.export.roller_gear_solid import RollerGearSolid
 from tests import roller_gear_reference as ref
-from tests.freecad import run
+from tests.freecad import read_step
 
 pytestmark = pytest.mark.freecad
 
-SCRIPT = """import json, os
-import Part
-shape = Part.Shape()
-shape.read(os.environ["CAMCORE_STEP"])
-print("camcore:", json.dumps({"volume_mm3": shape.Volume, "valid": shape.isValid(), "closed": shape.isClosed(),
-                              "solids": len(shape.Solids), "area_mm2": shape.Area}))
-"""
 
 
 def test_freecad_reads_one_valid_solid_of_the_right_volume(tmp_path: Path) -> None:
     cam = make_roller_gear_cam(8, 100.0, 60.0, 10.0, 20.0, 120.0, "MS")
     tolerance, bore = 0.01, 20.0
-    step = tmp_path / "roller-gear.step"
-    step.write_bytes(SOLID_FORMATS["step"].write(RollerGearSolid(cam, tolerance, bore)))
-    script = tmp_path / "measure.py"
-    script.write_text(SCRIPT, encoding="utf-8")
-    ran = run(script, tmp_path / "home", CAMCORE_STEP=str(step))
-    assert "camcore: " in ran.stdout, ran.stdout
-    got = json.loads(ran.stdout.split("camcore: ", 1)[1].splitlines()[0])
+    got = read_step(SOLID_FORMATS["step"].write(RollerGearSolid(cam, tolerance, bore)), tmp_path)
     assert (got["valid"], got["closed"], got["solids"]) == (True, True, 1)
     top, root = ref.top_radius(cam), math.hypot(cam.roller_ends_mm[1], cam.roller_radius_mm)
     rings = ref.rib_rings(cam, np.linspace(0.0, 2 * math.pi, 2881), top, root, 32)
