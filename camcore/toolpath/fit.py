@@ -6,11 +6,11 @@ then bisected), so the path has few elements. Each biarc is then *measured* agai
 exact curve both ways, and a biarc that misses the tolerance is fitted again tighter:
 
 * curve → path: the distance of the exact curve P(θ) from the biarc over its whole stretch
-  of θ: sampled, and every sampled local maximum refined by golden section in θ and a
+  of θ: sampled, and every sampled local maximum refined by shrinking local grids in θ and a
   parabolic step (so the largest distance between the sample points is found, not only at them);
 * path → curve: the distance of the biarc's points from the exact curve (each point's foot
-  on the curve by Gauss-Newton from the nearest sample), sampled along each element and
-  the largest refined by golden section and a parabolic step along the element.
+  on the curve by Gauss-Newton from the nearest sample, later from the feet already found),
+  sampled along each element and the largest refined the same way along the element.
 
 Both are one-sided Hausdorff distances; the larger is the biarc's deviation.
 
@@ -18,7 +18,8 @@ References
 ----------
 .. [1] D. S. Meek, D. J. Walton, "Approximation of discrete data by G1 arc splines",
    Computer-Aided Design 24 (1992) 301-306 (biarcs fitted to data within a tolerance).
-.. [2] J. Kiefer, "Sequential minimax search for a maximum", Proc. AMS 4 (1953) 502-506.
+.. [2] J. Kiefer, "Sequential minimax search for a maximum", Proc. AMS 4 (1953) 502-506 (the
+   maximum lies between the best evaluated point's neighbours).
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._maxima import polished_max
+from .._maxima import polished_grid_max
 from ..curves.base import FloatArray
 from ..deadline import checkpoint
 from ..errors import GeometryError, LimitExceededError
@@ -43,9 +44,12 @@ AIM = 0.8
 #: a stretch narrower than this is closed with a line whatever it deviates (a cusp of a
 #: gouging path, where the tangent turns back): 1e-10 rad moves a point by ~1e-8 mm
 NARROWEST_RAD = 1e-10
-#: the golden section's last width along an element (its parameter u runs 0 … 1) before the parabolic
+#: the local grids' last width along an element (its parameter u runs 0 … 1) before the parabolic
 #: step: the deviation is smooth along an arc, so the vertex lies within ~1e-8 of its maximum
 ELEMENT_POLISH_WIDTH = 1e-4
+#: the same in the cam angle, for the curve's distance from the path (1e-5 rad: the vertex within
+#: ~|f‴/f″|·1e-10 rad of the maximum, the value within rounding of it)
+THETA_POLISH_WIDTH_RAD = 1e-5
 #: Gauss-Newton steps of a foot point, at most: each multiplies the error by ~|P − X|·κ ≤ 1e-2
 FOOT_STEPS = 5
 #: a foot that moved less than this has converged [rad]: the next step would move it by ≤ 1e-2 of that
@@ -238,8 +242,8 @@ def measure(curve: OffsetCurve, spans: list[Span]) -> FloatArray:
 
     References
     ----------
-    Kiefer (1953), golden-section search; Brent (1973), the parabolic step; the Gauss-Newton foot
-    point of a point on a curve.
+    Kiefer (1953), the maximum between the best point's neighbours; Brent (1973), the parabolic step;
+    the Gauss-Newton foot point of a point on a curve.
     """
     out = np.zeros(len(spans))
     live = [k for k, s in enumerate(spans) if s.theta1 > s.theta0]
@@ -269,7 +273,11 @@ def measure(curve: OffsetCurve, spans: list[Span]) -> FloatArray:
     if rows.size:
         a = theta[rows, np.maximum(cols - 1, 0)]
         b = theta[rows, np.minimum(cols + 1, m - 1)]
-        _, refined = polished_max(lambda t: to_path(rows, t), a, b)
+
+        def to_path_rows(t: FloatArray) -> FloatArray:
+            return to_path(np.repeat(rows, t.shape[1]), t.reshape(-1)).reshape(t.shape)
+
+        _, refined = polished_grid_max(to_path_rows, a, b, width=THETA_POLISH_WIDTH_RAD)
         np.maximum.at(forward, rows, refined)
     # path → curve: each element's points, their feet on the curve (within the span's θ)
     owner = np.repeat(np.arange(len(live)), [len(spans[k].elements) for k in live])
@@ -279,21 +287,28 @@ def measure(curve: OffsetCurve, spans: list[Span]) -> FloatArray:
     px, py = arrays.point(lane_e, u)
     guess = _nearest_sample(theta[owner[lane_e]], *curve.points(theta.reshape(-1)), m, owner[lane_e], px, py)
     lo_e, hi_e = lo[owner[lane_e]], hi[owner[lane_e]]
-    back_samples = _foot(curve, px, py, guess, lo_e, hi_e)[0].reshape(count, m)
+    back_distance, back_foot = _foot(curve, px, py, guess, lo_e, hi_e)
+    back_samples = back_distance.reshape(count, m)
     backward = back_samples.max(axis=1)
     best = np.argmax(back_samples, axis=1)
     ua = frac[np.maximum(best - 1, 0)]
     ub = frac[np.minimum(best + 1, m - 1)]
-    foot = guess.reshape(count, m)[np.arange(count), best]
-    idx = np.arange(count)
+    # the feet last found along each element (sorted by u): each new point's foot starts from their
+    # interpolation, within the square of the grid's spacing of the answer (a Gauss-Newton step or two)
+    known_u: FloatArray = np.tile(frac, (count, 1))
+    known_foot: FloatArray = back_foot.reshape(count, m)
 
-    def to_curve(lane: np.ndarray, uu: FloatArray) -> FloatArray:
-        # each search's points lie ever closer together: the last foot starts the next (a step or two)
-        x, y = arrays.point(lane, uu)
-        distance, foot[lane] = _foot(curve, x, y, foot[lane], lo[owner[lane]], hi[owner[lane]])
-        return distance
+    def to_curve(uu: FloatArray) -> FloatArray:
+        nonlocal known_u, known_foot
+        lane = np.repeat(np.arange(count), uu.shape[1])
+        x, y = arrays.point(lane, uu.reshape(-1))
+        start = _interpolated(known_u, known_foot, uu).reshape(-1)
+        distance, feet = _foot(curve, x, y, start, lo[owner[lane]], hi[owner[lane]])
+        if uu.shape[1] > 1:
+            known_u, known_foot = uu, feet.reshape(uu.shape)
+        return distance.reshape(uu.shape)
 
-    _, refined_back = polished_max(lambda uu: to_curve(idx, uu), ua, ub, width=ELEMENT_POLISH_WIDTH)
+    _, refined_back = polished_grid_max(to_curve, ua, ub, width=ELEMENT_POLISH_WIDTH)
     backward = np.maximum(backward, refined_back)
     per_span = np.zeros(len(live))
     np.maximum.at(per_span, owner, backward)
@@ -307,6 +322,17 @@ def _local_maxima(samples: FloatArray) -> tuple[np.ndarray, np.ndarray]:
     peak = (samples >= padded[:, :-2]) & (samples >= padded[:, 2:])
     rows, cols = np.nonzero(peak)
     return rows, cols
+
+
+def _interpolated(known_u: FloatArray, known: FloatArray, u: FloatArray) -> FloatArray:
+    """Row by row, the linear interpolation at ``u`` of values ``known`` at sorted ``known_u``
+    (extended linearly beyond the row's ends)."""
+    k = np.clip(np.sum(known_u[:, None, :] <= u[:, :, None], axis=2) - 1, 0, known_u.shape[1] - 2)
+    u0, u1 = np.take_along_axis(known_u, k, axis=1), np.take_along_axis(known_u, k + 1, axis=1)
+    f0, f1 = np.take_along_axis(known, k, axis=1), np.take_along_axis(known, k + 1, axis=1)
+    span = u1 - u0
+    w = np.divide(u - u0, span, out=np.zeros_like(u), where=span > 0)
+    return f0 + w * (f1 - f0)
 
 
 def _nearest_sample(theta: FloatArray, cx: FloatArray, cy: FloatArray, m: int, owner: np.ndarray,

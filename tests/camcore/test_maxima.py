@@ -1,6 +1,7 @@
-"""The maxima refinement that dynamics and the toolpath's measurement use (camcore._maxima.polished_max):
-golden section to 1e-5, then one parabolic step (Brent 1973, ch. 5), against golden section to 1e-13
-alone (Kiefer 1953) and against maxima known in closed form."""
+"""The maxima refinements that dynamics and the toolpath's measurement use (camcore._maxima.polished_max:
+golden section to 1e-5, then one parabolic step (Brent 1973, ch. 5); polished_grid_max: shrinking local
+grids instead of golden section), against golden section to 1e-13 alone (Kiefer 1953) and against maxima
+known in closed form."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import math
 
 import numpy as np
 
-from camcore._maxima import golden_max, polished_max
+from camcore._maxima import golden_max, polished_grid_max, polished_max
 
 
 def test_smooth_maxima_to_rounding_in_fewer_evaluations() -> None:
@@ -58,3 +59,37 @@ def test_lanes_without_a_value_keep_minus_infinity() -> None:
     x, v = polished_max(lambda t: np.where(t > 5.0, -np.inf, -(t - 0.3) ** 2), np.array([0.0, 6.0]),
                         np.array([1.0, 7.0]))
     assert v[0] == 0.0 and abs(x[0] - 0.3) < 1e-8 and v[1] == -np.inf
+
+
+def test_grid_polish_to_rounding_in_fewer_calls() -> None:
+    # the first test's functions and intervals, each row of a call one interval's points (the toolpath's
+    # measurement: a call evaluates the exact curve afresh, so calls count, not points)
+    rng = np.random.default_rng(7)
+    k = rng.uniform(0.5, 20.0, 400)
+    c = rng.uniform(-1.0, 1.0, 400)
+    calls = [0]
+
+    def f(x: np.ndarray) -> np.ndarray:
+        calls[0] += 1
+        u = k[:, None] * (x - c[:, None])
+        return np.cos(u) + 0.3 * np.sin(3 * u)
+
+    u = 0.0
+    for _ in range(50):
+        u -= (-math.sin(u) + 0.9 * math.cos(3 * u)) / (-math.cos(u) - 2.7 * math.sin(3 * u))
+    peak = math.cos(u) + 0.3 * math.sin(3 * u)
+    where = c + u / k
+    a, b = where - rng.uniform(0.0, 8.7e-3, 400), where + rng.uniform(0.0, 8.7e-3, 400)
+    x, v = polished_grid_max(f, a, b, width=1e-5, points=9)
+    # the same bounds as golden section's polish: the value to 4 ulp, the place to its conditioning
+    assert np.abs(v - peak).max() <= 4 * np.spacing(peak)
+    assert np.all(np.abs(x - where) <= 3e-8 / k)
+    # 1.7e-2 → 1e-5 by quarters: 7 grids (the 7th finds every interval narrower), then 2 calls for the
+    # parabola (its two points in one call, its vertex in another), against 21 for golden section
+    assert calls[0] == 9
+
+
+def test_grid_polish_evaluates_a_maximum_at_an_end_there() -> None:
+    a, b = np.array([0.0, 1.0]), np.array([0.004, 1.002])
+    x, v = polished_grid_max(lambda t: 2.0 * t - t * t, a, b, width=1e-5)
+    assert x.tolist() == [0.004, 1.0] and v.tolist() == [2.0 * 0.004 - 0.004**2, 1.0]
