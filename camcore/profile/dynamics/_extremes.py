@@ -1,18 +1,18 @@
-"""Exact extremes of several functions of the cam angle at once: grid, then golden section.
+"""Exact extremes of several functions of the cam angle at once: grid, then local grids.
 
 Every function is sampled on a grid that holds every break point of the lift and its left
 neighbour (:func:`camcore.profile.checks.check_grid`), so no jump of the lift's derivatives
 lies strictly inside a grid cell and each function is smooth there. The best local maxima of
 each function on the grid (up to :data:`MAX_CANDIDATES` of them, so a second basin whose
-sampled peak is a little lower than the first is refined too) are refined by golden section
-in both neighbouring cells, all lanes of all functions in one search (one evaluation of the
-state per step, however many functions and candidates). A cell is refined to 1e-5 rad and then
-by one parabolic step (:func:`camcore._maxima.polished_max`): the value is then within rounding of
-the extreme.
+sampled peak is a little lower than the first is refined too) are refined by shrinking local
+grids in both neighbouring cells, all lanes of all functions in one search (one evaluation of the
+state per round, however many functions and candidates). A cell is refined to 1e-5 rad and then
+by one parabolic step (:func:`camcore._maxima.polished_grid_max`): the value is then within rounding
+of the extreme.
 
 References
 ----------
-.. [1] Kiefer (1953), golden-section search (a unimodal function between neighbouring grid points).
+.. [1] Kiefer (1953): a unimodal function's maximum lies between the best evaluated point's neighbours.
 .. [2] Brent (1973), *Algorithms for Minimization without Derivatives*, ch. 5: the parabolic step.
 """
 
@@ -23,7 +23,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..._maxima import polished_max
+from ..._maxima import POLISH_WIDTH, polished_grid_max
 from ...curves.base import FloatArray
 
 #: local maxima of the sampled function refined per function (the best ones by sampled value)
@@ -65,12 +65,12 @@ def refine_maxima(evaluate: Callable[[FloatArray], FloatArray], grid: FloatArray
             owner += [j, j]
     if owner:
         lanes = np.asarray(owner, dtype=np.intp)
-        columns = np.arange(lanes.size)
 
-        def lane_values(x: FloatArray) -> FloatArray:
-            return _clean(np.atleast_2d(evaluate(x)))[lanes, columns]
+        def lane_values(x: FloatArray) -> FloatArray:  # row i: points of lane i, of its function's
+            every = _clean(np.atleast_2d(evaluate(x.reshape(-1))))
+            return every[np.repeat(lanes, x.shape[1]), np.arange(x.size)].reshape(x.shape)
 
-        t, v = polished_max(lane_values, np.asarray(lo), np.asarray(hi))
+        t, v = polished_grid_max(lane_values, np.asarray(lo), np.asarray(hi), width=POLISH_WIDTH)
         for lane in range(lanes.size):
             j = int(lanes[lane])
             if v[lane] > best_v[j]:

@@ -24,7 +24,7 @@ the turn. The smallest preload that keeps the margin at the given speed follows 
 form: Q0_min = Q0 − min_θ(Q − F_m·r), Q being linear in Q0.
 
 Every extreme (minimum contact force, jump speed, torques, stress) is found on a grid that
-holds every break point of the lift and refined by golden section between grid points
+holds every break point of the lift and refined by shrinking local grids between grid points
 (:mod:`._extremes`), so it is the function's own extreme, not a sample's. The RMS torque is
 Gauss-Legendre quadrature on cells of at most 1° between break points.
 
