@@ -1,8 +1,9 @@
 """Fitting a stretch of the exact cutter curve with biarcs, and measuring how far apart they are.
 
 The fit is greedy (longest first): from the start of a stretch, the end of each biarc is
-pushed as far along a fine grid of cam angles as the tolerance allows (grown by doubling,
-then bisected), so the path has few elements. Each biarc is then *measured* against the
+pushed as far along a fine grid of cam angles as the tolerance allows (each next trial where
+the distances of the last ones say it reaches the tolerance, within a bracket that keeps shrinking),
+so the path has few elements. Each biarc is then *measured* against the
 exact curve both ways, and a biarc that misses the tolerance is fitted again tighter:
 
 * curve → path: the distance of the exact curve P(θ) from the biarc over its whole stretch
@@ -25,6 +26,7 @@ References
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -149,46 +151,19 @@ def _greedy(curve: OffsetCurve, theta0: float, theta1: float, start: tuple[Float
     pts = np.column_stack([px, py])
     tan = np.column_stack([tx, ty])
 
-    def trial(i: int, j: int) -> tuple[Element, ...] | None:
+    def trial(i: int, j: int) -> tuple[tuple[Element, ...] | None, float]:
+        """The biarc over grid steps i … j and its largest distance from their points (inf: none)."""
         pair = biarc(pts[i], tan[i], pts[j], tan[j], float(theta[i]), float(theta[j]))
         if pair is None:
-            return None
+            return None, math.inf
         xs, ys = px[i:j + 1], py[i:j + 1]
-        dist = np.minimum(pair[0].distance(xs, ys), pair[1].distance(xs, ys))
-        return pair if float(dist.max()) <= aim_mm else None
+        return pair, float(np.minimum(pair[0].distance(xs, ys), pair[1].distance(xs, ys)).max())
 
     spans: list[Span] = []
     i, guess = 0, 8
     while i < n:
         checkpoint()
-        good, good_fit, bad = i, None, n + 1
-        j = min(n, i + guess)
-        fit = trial(i, j)
-        if fit is not None:  # grow by doubling until it fails or reaches the end
-            good, good_fit = j, fit
-            while good < n:
-                j = min(n, i + 2 * (good - i))
-                fit = trial(i, j)
-                if fit is None:
-                    bad = j
-                    break
-                good, good_fit = j, fit
-        else:  # shrink by halving until one fits
-            bad = j
-            while good_fit is None and bad - i > 1:
-                j = i + (bad - i) // 2
-                fit = trial(i, j)
-                if fit is None:
-                    bad = j
-                else:
-                    good, good_fit = j, fit
-        while good_fit is not None and bad <= n and bad - good > 1:  # bisect between the two
-            j = (good + bad) // 2
-            fit = trial(i, j)
-            if fit is None:
-                bad = j
-            else:
-                good, good_fit = j, fit
+        good, good_fit = _farthest_fit(trial, i, n, guess, aim_mm)
         if good_fit is None:  # not even one grid step: split that step in θ
             spans += _split(curve, float(theta[i]), float(theta[i + 1]), (pts[i], tan[i]), (pts[i + 1], tan[i + 1]),
                             aim_mm, budget)
@@ -199,6 +174,46 @@ def _greedy(curve: OffsetCurve, theta0: float, theta1: float, start: tuple[Float
         guess = max(1, good - i)
         i = good
     return spans
+
+
+def _farthest_fit(trial: Callable[[int, int], tuple[tuple[Element, ...] | None, float]], i: int, n: int, guess: int,
+                  aim_mm: float) -> tuple[int, tuple[Element, ...] | None]:
+    """The farthest grid point j ≤ n whose biarc from i keeps within ``aim_mm``, where a biarc's distance
+    grows with its length: j and its biarc (i and None when not even i + 1 fits).
+
+    Each next trial is where a power law through the last two (the distance of a biarc fitted to a smooth
+    curve grows as about the cube of its length) crosses the aim, kept inside the bracket; a trial on
+    the same side as the last two bisects instead, so the bracket at least halves every third trial. A
+    few trials (3–4) find the point bisection finds in 8.
+    """
+    good, good_fit, good_d, bad, bad_d = i, None, 0.0, n + 1, math.inf
+    j, sides = min(n, i + guess), ""
+    while True:
+        fit, d = trial(i, j)
+        fits = fit is not None and d <= aim_mm
+        if fits:
+            good, good_fit, good_d = j, fit, d
+        else:
+            bad, bad_d = j, d
+        sides = (sides + ("g" if fits else "b"))[-3:]
+        if bad - good <= 1 or good == n:
+            return good, good_fit
+        if sides in ("ggg", "bbb"):  # the prediction keeps landing on one side: halve the bracket
+            j = (good + bad) // 2
+            continue
+        # the power law d ∝ (j − i)^p through the known points (p = 3 with only one)
+        if good > i and good_d > 0 and bad <= n and math.isfinite(bad_d) and bad_d > good_d:
+            power = math.log(bad_d / good_d) / math.log((bad - i) / (good - i))
+            ref, ref_d = good, good_d
+        elif good > i and good_d > 0:
+            power, ref, ref_d = 3.0, good, good_d
+        elif bad <= n and math.isfinite(bad_d) and bad_d > 0:
+            power, ref, ref_d = 3.0, bad, bad_d
+        else:
+            j = (good + bad) // 2 if bad <= n else min(n, i + 2 * (good - i))
+            continue
+        reach = i + (ref - i) * (aim_mm / ref_d) ** (1.0 / power)
+        j = int(min(max(math.floor(reach), good + 1), bad - 1, n, i + 4 * max(1, good - i)))
 
 
 def _split(curve: OffsetCurve, theta0: float, theta1: float, start: tuple[FloatArray, FloatArray],

@@ -23,7 +23,7 @@ from camcore.errors import GeometryError, InvalidParameterError, LimitExceededEr
 from camcore.export import TOOLPATH_FORMATS, ToolpathFile, toolpath_dxf, toolpath_gcode
 from camcore.profile import Follower, Segment, compute_profile, make_cam
 from camcore.toolpath import OffsetCurve, compute_toolpath
-from camcore.toolpath.fit import Span, measure
+from camcore.toolpath.fit import Span, _farthest_fit, measure
 from camcore.toolpath.geometry import Element, biarc
 from tests.toolpath_reference import cutting_polylines, densify, distances_to_polyline, max_sagitta, parse_gcode
 
@@ -322,3 +322,29 @@ def test_every_toolpath_format_is_in_the_registry() -> None:
     text = TOOLPATH_FORMATS["gcode"].write(ToolpathFile(tp)).decode()
     assert text.startswith("%\n") and "G17 G21 G90" in text and text.rstrip().endswith("M30\n%")
     assert TOOLPATH_FORMATS["gcode"].is_text and not TOOLPATH_FORMATS["dxf"].is_text
+
+
+def test_the_greedy_search_finds_the_farthest_fit_of_a_brute_scan() -> None:
+    # distances growing as c·(j − i)^p (p from 2 to 6, not only the cube the search predicts), a jump to
+    # "no biarc" past some length, any start and first guess: the farthest j within the aim is the one a
+    # scan of every j finds. Trials: 4.3 on average here, at most 9; doubling then bisection took 6.9 and 9
+    # on the same 400 cases (measured once, by the search this one replaced)
+    rng = np.random.default_rng(3)
+    element = (Element((0.0, 0.0), (1.0, 0.0)),)
+    most, total = 0, 0
+    for _ in range(400):
+        i, n = int(rng.integers(0, 50)), int(rng.integers(60, 400))
+        c, p, aim = rng.uniform(1e-7, 1e-3), rng.uniform(2.0, 6.0), rng.uniform(1e-3, 1e-2)
+        none_past = int(rng.integers(i + 1, n + 40))
+        calls = [0]
+
+        def trial(a: int, b: int) -> tuple[tuple[Element, ...] | None, float]:
+            calls[0] += 1
+            assert a == i and i < b <= n
+            return (None, math.inf) if b > none_past else (element, c * (b - a) ** p)
+
+        good, fit = _farthest_fit(trial, i, n, int(rng.integers(1, 200)), aim)
+        fitting = [j for j in range(i + 1, n + 1) if j <= none_past and c * (j - i) ** p <= aim]
+        assert good == (max(fitting) if fitting else i) and (fit is None) == (not fitting)
+        most, total = max(most, calls[0]), total + calls[0]
+    assert most <= 9 and total / 400 < 5
