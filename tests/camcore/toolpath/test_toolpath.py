@@ -338,7 +338,8 @@ def test_the_greedy_search_finds_the_farthest_fit_of_a_brute_scan() -> None:
         none_past = int(rng.integers(i + 1, n + 40))
         calls = [0]
 
-        def trial(a: int, b: int) -> tuple[tuple[Element, ...] | None, float]:
+        def trial(a: int, b: int, i: int = i, n: int = n, c: float = c, p: float = p, none_past: int = none_past,
+                  calls: list[int] = calls) -> tuple[tuple[Element, ...] | None, float]:
             calls[0] += 1
             assert a == i and i < b <= n
             return (None, math.inf) if b > none_past else (element, c * (b - a) ** p)
