@@ -20,6 +20,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+import httpx
 import numpy as np
 import orjson
 
@@ -38,10 +39,12 @@ TABLE_BODY = {"curve": {"type": "named", "name": "MS"}, "samples": 101}
 
 FIGURES = [
     "table_vs_sin_floor", "scalar_port_vs_table", "inverse_vs_table", "ms_table_vs_numpy", "cycloid_table_vs_mechanism",
-    "json_vs_orjson_floor", "http_table_vs_ceiling", "http_p99_ms", "workers_scaling", "profile_rps",
+    "json_vs_orjson_floor", "http_table_vs_ceiling", "http_cached_vs_bare", "http_p99_ms", "workers_scaling",
+    "profile_rps",
     "characteristics_new_curve_rps", "sizing_rps", "base_circle_ms", "cold_start_vs_bare_fastapi", "sizing_sweep",
     "sweep_vs_single_sizings", "characteristics_sweep_vs_single", "readme_routes_ms",
 ]
+HTTP_FIGURES = {"http_table_vs_ceiling", "http_cached_vs_bare", "http_p99_ms", "workers_scaling"}
 REQUEST_FIGURES = {"profile_rps", "characteristics_new_curve_rps", "sizing_rps", "base_circle_ms"}
 
 
@@ -221,7 +224,7 @@ def characteristics_sweep_vs_single(repeats: int) -> dict[str, Any]:
 # --------------------------------------------------------------------------- HTTP figures
 def http_figures(seconds: int, runs: int) -> dict[str, Any]:
     if not shutil.which("wrk"):
-        return {name: {"skipped": WRK_MISSING} for name in ("http_table_vs_ceiling", "http_p99_ms", "workers_scaling")}
+        return {name: {"skipped": WRK_MISSING} for name in HTTP_FIGURES}
     with tempfile.TemporaryDirectory() as tmp:
         lua = Path(tmp) / "table.lua"
         lua.write_text(
@@ -229,22 +232,27 @@ def http_figures(seconds: int, runs: int) -> dict[str, Any]:
             'wrk.headers["Content-Type"] = "application/json"\n'
             f"wrk.body = '{json.dumps(TABLE_BODY)}'\n"
         )
-        health, table1, table2, uncached = [], [], [], []
+        answer = Path(tmp) / "table.json"
+        health, table1, table2, uncached, bare = [], [], [], [], []
         # the servers are up at once (an idle one costs nothing) so that the runs interleave:
-        # /health and the table on one worker, the table on two, and the table on one worker
-        # with the table cache off (every request computes and encodes it), run after run
+        # /health and the table on one worker, the table on two, the table on one worker with the
+        # table cache off (every request computes and encodes it), and a bare FastAPI app answering
+        # the table's bytes (the floor for a cached answer), run after run
         with Server(workers=1, cpus="0") as one, Server(workers=2, cpus="0,1") as two, \
                 Server(workers=1, cpus="0", CAMCORE_TABLE_CACHE_SIZE="0") as no_cache:
-            # warm-up: a fresh server is slower for its first seconds under load
-            warm = min(3, seconds)
-            wrk(one.url + "/health", warm)
-            for server in (one, two, no_cache):
-                wrk(server.url + "/v1/curves/table", warm, str(lua))
-            for _ in range(runs):
-                health.append(wrk(one.url + "/health", seconds))
-                table1.append(wrk(one.url + "/v1/curves/table", seconds, str(lua)))
-                table2.append(wrk(two.url + "/v1/curves/table", seconds, str(lua)))
-                uncached.append(wrk(no_cache.url + "/v1/curves/table", seconds, str(lua)))
+            answer.write_bytes(httpx.post(one.url + "/v1/curves/table", json=TABLE_BODY, timeout=60).content)
+            with Server(workers=1, cpus="0", bare=True, BENCH_BARE_ANSWER=str(answer)) as floor:
+                # warm-up: a fresh server is slower for its first seconds under load
+                warm = min(3, seconds)
+                wrk(one.url + "/health", warm)
+                for server in (one, two, no_cache, floor):
+                    wrk(server.url + "/v1/curves/table", warm, str(lua))
+                for _ in range(runs):
+                    health.append(wrk(one.url + "/health", seconds))
+                    table1.append(wrk(one.url + "/v1/curves/table", seconds, str(lua)))
+                    bare.append(wrk(floor.url + "/v1/curves/table", seconds, str(lua)))
+                    table2.append(wrk(two.url + "/v1/curves/table", seconds, str(lua)))
+                    uncached.append(wrk(no_cache.url + "/v1/curves/table", seconds, str(lua)))
     p99 = [r["p99_ms"] for r in table1]
     return {
         "http_table_vs_ceiling": figure(
@@ -256,6 +264,12 @@ def http_figures(seconds: int, runs: int) -> dict[str, Any]:
             uncached_ratio=round(statistics.median(u["rps"] / h["rps"] for u, h in zip(uncached, health)), 4),
             uncached_p99_ms=[u["p99_ms"] for u in uncached],
             what="req/s of POST /v1/curves/table (101 rows, MS) ÷ req/s of GET /health; 1 worker, 32 connections, "
+                 f"wrk -d{seconds}s", pinning=PINNING),
+        "http_cached_vs_bare": figure(
+            [t["rps"] / b["rps"] for t, b in zip(table1, bare)], ">= 0.6",
+            table_rps=[t["rps"] for t in table1], bare_rps=[b["rps"] for b in bare],
+            what="req/s of POST /v1/curves/table (101 rows, MS; its answer from the cache) ÷ req/s of a bare FastAPI "
+                 "app's POST route answering the same bytes (bench/bare_app.py); 1 worker each, 32 connections, "
                  f"wrk -d{seconds}s", pinning=PINNING),
         "http_p99_ms": figure(p99, "<= 20", unit="ms", two_workers_p99_ms=[t["p99_ms"] for t in table2],
                               what="p99 latency of POST /v1/curves/table (101 rows) at 32 connections, 1 worker "
@@ -294,8 +308,7 @@ def run(smoke: bool, only: set[str] | None) -> dict[str, Any]:
     for name, job in jobs.items():
         if only is None or name in only:
             figures[name] = job()
-    http_names = {"http_table_vs_ceiling", "http_p99_ms", "workers_scaling"}
-    if only is None or only & http_names:
+    if only is None or only & HTTP_FIGURES:
         figures.update(http_figures(sizes["http_seconds"], sizes["http_runs"]))
     if only is None or only & REQUEST_FIGURES:
         figures.update(request_rates.request_figures(sizes["http_seconds"], sizes["http_runs"], 3 if smoke else 20))

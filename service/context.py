@@ -14,6 +14,7 @@ from service.answer_budget import AnswerBudget
 from service.cache import LRUCache
 from service.cad_pool import CadPool
 from service.curves.library import CurveLibrary
+from service.replies import REPLIES_MAX_BYTES, Reply, reply_size
 from service.settings import Settings
 
 #: bytes the cached sizing answers may hold (one is ~10 kB with its 181-row torque table)
@@ -35,6 +36,8 @@ class Context:
     cad: CadPool
     #: the bytes of answers held for open downloads
     answers: AnswerBudget
+    #: replies by request, of answers their operations gave from their own caches (service.replies)
+    replies: LRUCache[Reply]
 
     @classmethod
     def create(cls, settings: Settings) -> Context:
@@ -43,9 +46,10 @@ class Context:
                    sizings=LRUCache(settings.sizing_cache_size, SIZING_CACHE_MAX_BYTES),
                    cad=CadPool(settings.cad_processes, settings.cad_max_tasks, settings.cad_idle_s,
                                settings.work_deadline_s),
-                   answers=AnswerBudget(settings.max_answer_bytes_in_flight))
+                   answers=AnswerBudget(settings.max_answer_bytes_in_flight),
+                   replies=LRUCache(settings.reply_cache_size, REPLIES_MAX_BYTES, size_of=reply_size))
 
     def cache_stats(self) -> dict[str, dict[str, int]]:
         """Every cache's hit and miss counts (the health answer)."""
         return {**self.curves.cache_stats(), "profile_checks": self.profile_checks.stats(),
-                "sizings": self.sizings.stats()}
+                "sizings": self.sizings.stats(), "replies": self.replies.stats()}

@@ -31,6 +31,8 @@ from fastapi.routing import APIRoute
 from pydantic import TypeAdapter, ValidationError
 from starlette.requests import ClientDisconnect
 
+from service.replies import keep, request_key
+
 #: bodies larger than this are parsed and validated in a worker thread [bytes]
 LARGE_BODY_BYTES = 256 * 1024
 #: large bodies parsed at once per worker process (each holds its body, parsed, several times over)
@@ -130,14 +132,23 @@ class OrjsonRoute(APIRoute):
 
         async def orjson_route_handler(request: Request) -> Response:
             orjson_request = OrjsonRequest(request.scope, request.receive)
-            if adapter is not None:
-                try:
+            try:
+                key = request_key(orjson_request, await orjson_request.body())
+                if adapter is not None:
                     await orjson_request.validate_large_body(adapter, _large_body_slots())
-                except ClientDisconnect:
-                    # the body never came whole: the client left, or the server answered for it
-                    # already (408 at the body timeout, 413, 503) and told the app it had gone.
-                    # Nothing is sent from here; without this, a traceback per such request
-                    return Response(status_code=400)
-            return await handler(orjson_request)
+            except ClientDisconnect:
+                # the body never came whole: the client left, or the server answered for it
+                # already (408 at the body timeout, 413, 503) and told the app it had gone.
+                # Nothing is sent from here; without this, a traceback per such request
+                return Response(status_code=400)
+            replies = request.app.state.context.replies
+            if key is not None:
+                kept = replies.get(key)
+                if kept is not None:  # answered before from its operation's cache: the same bytes again
+                    return kept.response()
+            response = await handler(orjson_request)
+            if key is not None:
+                keep(replies, orjson_request, key, response)
+            return response
 
         return orjson_route_handler

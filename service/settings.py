@@ -92,6 +92,7 @@ class Settings(BaseSettings):
     table_cache_max_bytes: int = Field(32 * 1024 * 1024, ge=0)
     profile_checks_cache_size: int = Field(256, ge=0)
     sizing_cache_size: int = Field(256, ge=0)
+    reply_cache_size: int = Field(256, ge=0)
 
     # access control (off by default for local use)
     api_key: str | None = None

@@ -33,6 +33,7 @@ from service.media import ERRORS, Responses, media_content
 from service.operations.answers import Answer, respond
 from service.operations.formats import JSON, Format
 from service.operations.operation import Operation
+from service.replies import KEPT_FLAG
 from service.routing import OrjsonRoute
 
 
@@ -135,6 +136,7 @@ async def compute_answer(operation: Operation, fmt: Format, request: Request, sp
     if operation.cached is not None:
         kept = operation.cached(ctx, core, fmt)
         if kept is not None:
+            setattr(request.state, KEPT_FLAG, True)  # this request's reply may be kept (service.replies)
             return kept
     work = operation.estimate(ctx, core, fmt)
     if operation.warmup is not None:

@@ -16,7 +16,8 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 FIGURES = {
     "table_vs_sin_floor", "scalar_port_vs_table", "inverse_vs_table", "ms_table_vs_numpy", "cycloid_table_vs_mechanism",
-    "json_vs_orjson_floor", "http_table_vs_ceiling", "http_p99_ms", "workers_scaling", "profile_rps",
+    "json_vs_orjson_floor", "http_table_vs_ceiling", "http_cached_vs_bare", "http_p99_ms", "workers_scaling",
+    "profile_rps",
     "characteristics_new_curve_rps", "sizing_rps", "base_circle_ms", "cold_start_vs_bare_fastapi", "sizing_sweep",
     "sweep_vs_single_sizings", "characteristics_sweep_vs_single", "readme_routes_ms",
 }

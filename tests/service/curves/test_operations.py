@@ -289,4 +289,4 @@ async def test_health(client: httpx.AsyncClient) -> None:
     assert r.status_code == 200
     body = r.json()
     assert body["status"] == "ok" and body["version"] == camcore.__version__
-    assert set(body["caches"]) == {"curves", "tables", "profile_checks", "sizings"}
+    assert set(body["caches"]) == {"curves", "tables", "profile_checks", "sizings", "replies"}
