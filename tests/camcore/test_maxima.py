@@ -12,39 +12,45 @@ import numpy as np
 from camcore._maxima import golden_max, polished_grid_max, polished_max
 
 
-def test_smooth_maxima_to_rounding_in_fewer_evaluations() -> None:
-    # f_i(x) = cos(k_i (x − c_i)) + 0.3 sin(3 k_i (x − c_i)) near its maximum, on intervals like a 0.25°
-    # grid's two cells (8.7e-3 rad) with the maximum anywhere inside: known in closed form by Newton on f'
-    rng = np.random.default_rng(7)
-    k = rng.uniform(0.5, 20.0, 400)
-    c = rng.uniform(-1.0, 1.0, 400)
-    calls = [0]
+class SmoothCases:
+    """f_i(x) = cos(k_i (x − c_i)) + 0.3 sin(3 k_i (x − c_i)) near its maximum, on intervals like a 0.25°
+    grid's two cells (8.7e-3 rad) with the maximum anywhere inside: known in closed form by Newton on f'.
+    ``values`` evaluates them (lane i at row i; a 2-D x holds a row of points per lane) and counts its calls."""
 
-    def f(x: np.ndarray) -> np.ndarray:
-        calls[0] += 1
+    def __init__(self) -> None:
+        rng = np.random.default_rng(7)
+        self.k = rng.uniform(0.5, 20.0, 400)
+        self.c = rng.uniform(-1.0, 1.0, 400)
+        # the maximum of cos u + 0.3 sin 3u near u = 0: f'(u) = −sin u + 0.9 cos 3u = 0, by Newton in u
+        u = 0.0
+        for _ in range(50):
+            u -= (-math.sin(u) + 0.9 * math.cos(3 * u)) / (-math.cos(u) - 2.7 * math.sin(3 * u))
+        self.peak = math.cos(u) + 0.3 * math.sin(3 * u)
+        self.where = self.c + u / self.k
+        self.a = self.where - rng.uniform(0.0, 8.7e-3, 400)
+        self.b = self.where + rng.uniform(0.0, 8.7e-3, 400)
+        self.calls = 0
+
+    def values(self, x: np.ndarray) -> np.ndarray:
+        self.calls += 1
+        k, c = (self.k, self.c) if x.ndim == 1 else (self.k[:, None], self.c[:, None])
         u = k * (x - c)
         return np.cos(u) + 0.3 * np.sin(3 * u)
 
-    # the maximum of cos u + 0.3 sin 3u near u = 0: f'(u) = −sin u + 0.9 cos 3u = 0, by Newton in u
-    u = 0.0
-    for _ in range(50):
-        u -= (-math.sin(u) + 0.9 * math.cos(3 * u)) / (-math.cos(u) - 2.7 * math.sin(3 * u))
-    peak = math.cos(u) + 0.3 * math.sin(3 * u)
-    where = c + u / k
-    a, b = where - rng.uniform(0.0, 8.7e-3, 400), where + rng.uniform(0.0, 8.7e-3, 400)
-    x, v = polished_max(f, a, b)
-    polished_calls = calls[0]
-    calls[0] = 0
-    _, vg = golden_max(f, a, b, width=1e-13)
+
+def test_smooth_maxima_to_rounding_in_fewer_evaluations() -> None:
+    cases = SmoothCases()
+    x, v = polished_max(cases.values, cases.a, cases.b)
+    polished_calls, cases.calls = cases.calls, 0
+    _, vg = golden_max(cases.values, cases.a, cases.b, width=1e-13)
     # the value to rounding (4 ulp of values near 1.2), never below golden section's to 1e-13 by more
-    assert np.abs(v - peak).max() <= 4 * np.spacing(peak)
-    assert np.all(v >= vg - 4 * np.spacing(peak))
+    assert np.abs(v - cases.peak).max() <= 4 * np.spacing(cases.peak)
+    assert np.all(v >= vg - 4 * np.spacing(cases.peak))
     # the place to the value's own conditioning: √(2 ulp/|f''|) ≈ 1e-8/k rad
-    assert np.all(np.abs(x - where) <= 3e-8 / k)
+    assert np.all(np.abs(x - cases.where) <= 3e-8 / cases.k)
     # 21 evaluations from these 1.7e-2-wide intervals (2 + 16 golden steps to 1e-5, then 3), golden section
     # alone 56 to 1e-13 (its 1e-9 of before: 34)
-    assert polished_calls == 21 and calls[0] == 56
-
+    assert polished_calls == 21 and cases.calls == 56
 
 def test_a_maximum_at_an_end_is_evaluated_there() -> None:
     # a kink: f = 2t − t² rises to the first interval's right end and falls from the second's left end
@@ -64,30 +70,14 @@ def test_lanes_without_a_value_keep_minus_infinity() -> None:
 def test_grid_polish_to_rounding_in_fewer_calls() -> None:
     # the first test's functions and intervals, each row of a call one interval's points (the toolpath's
     # measurement: a call evaluates the exact curve afresh, so calls count, not points)
-    rng = np.random.default_rng(7)
-    k = rng.uniform(0.5, 20.0, 400)
-    c = rng.uniform(-1.0, 1.0, 400)
-    calls = [0]
-
-    def f(x: np.ndarray) -> np.ndarray:
-        calls[0] += 1
-        u = k[:, None] * (x - c[:, None])
-        return np.cos(u) + 0.3 * np.sin(3 * u)
-
-    u = 0.0
-    for _ in range(50):
-        u -= (-math.sin(u) + 0.9 * math.cos(3 * u)) / (-math.cos(u) - 2.7 * math.sin(3 * u))
-    peak = math.cos(u) + 0.3 * math.sin(3 * u)
-    where = c + u / k
-    a, b = where - rng.uniform(0.0, 8.7e-3, 400), where + rng.uniform(0.0, 8.7e-3, 400)
-    x, v = polished_grid_max(f, a, b, width=1e-5, points=9)
+    cases = SmoothCases()
+    x, v = polished_grid_max(cases.values, cases.a, cases.b, width=1e-5, points=9)
     # the same bounds as golden section's polish: the value to 4 ulp, the place to its conditioning
-    assert np.abs(v - peak).max() <= 4 * np.spacing(peak)
-    assert np.all(np.abs(x - where) <= 3e-8 / k)
+    assert np.abs(v - cases.peak).max() <= 4 * np.spacing(cases.peak)
+    assert np.all(np.abs(x - cases.where) <= 3e-8 / cases.k)
     # 1.7e-2 → 1e-5 by quarters: 7 grids (the 7th finds every interval narrower), then 2 calls for the
     # parabola (its two points in one call, its vertex in another), against 21 for golden section
-    assert calls[0] == 9
-
+    assert cases.calls == 9
 
 def test_grid_polish_evaluates_a_maximum_at_an_end_there() -> None:
     a, b = np.array([0.0, 1.0]), np.array([0.004, 1.002])
