@@ -13,6 +13,9 @@ Bodies over :data:`LARGE_BODY_BYTES` are parsed and validated in a worker thread
 and validation, which on the event loop every other request waited through. The thread
 hands FastAPI the validated model (which it takes as it is) or the validation errors it
 would have found itself (the same 422).
+
+A request answered before from its operation's own cache is answered with its kept reply
+before FastAPI solves the endpoint's parameters (:mod:`service.replies`).
 """
 
 from __future__ import annotations
