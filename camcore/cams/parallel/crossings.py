@@ -30,6 +30,11 @@ DISTANCE_STEPS = 4
 #: Newton steps of a crossing (2 × 2) or a foot, started within a sample step: 4-6 where the
 #: convergence is quadratic; the rest for shallow crossings, whose first steps are held to a step
 CROSSING_STEPS = 16
+#: a foot's Gauss-Newton step under this share of a sample step has the iteration converging
+FAR_STEP_SHARE = 1e-3
+#: a point whose gap from the envelope, less this many times the last step's length along it, is still
+#: over 2ε is off the envelope: the steps left add up to less than twice the last (gap·κ ≤ ½)
+FAR_MARGIN = 4.0
 #: a crossing is solved when the two envelope points are this close, as a share of C (1e-9 mm
 #: at C = 100 mm: the rounding of a cam angle, ~1e-16 rad, times the paths' speed, ×1e4)
 CROSSING_SHARE = 1e-11
@@ -67,7 +72,10 @@ def distance_minima(cam: ParallelCam, alpha0: FloatArray, qx: FloatArray, qy: Fl
         curve = p1x * p1x + p1y * p1y + dx * p2x + dy * p2y
         # past a maximum (curve ≤ 0) go downhill by a gradient step scaled by |P′|²
         scale = np.where(curve > 0, curve, p1x * p1x + p1y * p1y)
-        t = np.clip(t - slope / scale, lo, hi)
+        moved = np.clip(t - slope / scale, lo, hi)
+        if np.array_equal(moved, t):  # no angle moved: every later step would repeat this one
+            break
+        t = moved
     px, py, *_ = centres(cam, alpha0, t)
     return np.hypot(px - qx, py - qy), t
 
@@ -210,8 +218,13 @@ def feet(cam: ParallelCam, alpha: FloatArray, side: FloatArray, x: float, y: flo
         with np.errstate(divide="ignore", invalid="ignore"):
             du = -((e.x - x) * e.tx + (e.y - y) * e.ty) / e.stretch
         du = np.where(np.isfinite(du), np.clip(du, -step, step), 0.0)
+        # a lane whose foot is near (a step under FAR_STEP_SHARE of a sample step: the iteration
+        # converges, each step shrinking the next by gap·κ ≪ ½) and whose point stays off the envelope
+        # by more than 2ε even FAR_MARGIN steps' worth nearer is NaN however long it goes on
+        gap = np.hypot(e.x - x, e.y - y)
+        far = (np.abs(du) < FAR_STEP_SHARE * step) & (gap - FAR_MARGIN * np.abs(e.stretch * du) > eps2)
         u = u + du
-        if np.all(np.abs(du) <= 1e-15 * np.maximum(1.0, np.abs(u))):
+        if np.all(far | (np.abs(du) <= 1e-15 * np.maximum(1.0, np.abs(u)))):
             break
     e = envelope(cam, alpha, side, u)
     gap = np.hypot(e.x - x, e.y - y)

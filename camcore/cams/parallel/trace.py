@@ -239,6 +239,7 @@ class _Walk:
 
     def __init__(self, s: PlateSamples):
         self.s = s
+        self.exits: dict[tuple[int, int, float, int, int], _Exit] = {}
         self.reach = GeometryError(
             f"Plate {s.plate} reaches the turret's axis (center_distance_mm {s.cam.center_distance_mm!r}): its "
             "rollers leave the cam room past the turret's shaft; fewer stops or more rollers per plate bring them "
@@ -276,7 +277,13 @@ class _Walk:
 
     def exit(self, side: int, chain: int, t_last: float, q: int, sign: int) -> _Exit:
         """Where the walk leaves a row between its last free cam angle ``t_last`` and the covered
-        sample ``q`` after it, and where it goes on."""
+        sample ``q`` after it, and where it goes on (solved once: the walk's last exit is its first)."""
+        key = (side, chain, t_last, q, sign)
+        if key not in self.exits:
+            self.exits[key] = self._exit(side, chain, t_last, q, sign)
+        return self.exits[key]
+
+    def _exit(self, side: int, chain: int, t_last: float, q: int, sign: int) -> _Exit:
         s, cam = self.s, self.s.cam
         t_covered = q * s.step
         q = q % s.length
