@@ -19,6 +19,7 @@ References
 
 from __future__ import annotations
 
+from bisect import bisect_right
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
@@ -43,6 +44,11 @@ _SLICED_MIN_POINTS_PER_PIECE = 512
 #: (allocating costs as much as a multiplication pass: freshly mapped, zeroed pages).
 _BLOCK = 16384
 WORK_ROWS = 5
+
+#: at most this many T are evaluated one by one in Python floats where the curve has scalar formulas
+#: (:meth:`PiecewiseCurve.eval_point`): a call on arrays costs ~30 µs whatever its size, one point ~3 µs
+#: (a tracing or fitting solver asks for one or two points at a time, hundreds of times)
+_POINTWISE_MAX_POINTS = 8
 
 
 
@@ -205,12 +211,32 @@ class PiecewiseCurve:
         """
         t_arr = np.asarray(t, dtype=np.float64)
         flat = t_arr.reshape(-1)
+        if flat.size <= _POINTWISE_MAX_POINTS and self.has_point_formulas:
+            points = self._derivatives_pointwise(flat, order)
+            if points is not None:
+                return [o.reshape(t_arr.shape) for o in points]
         sliced = self.n_pieces <= _SLICED_PIECES and flat.size >= _SLICED_MIN_POINTS_PER_PIECE * self.n_pieces
         if sliced and bool(np.all(flat[1:] >= flat[:-1])):
             out = self._derivatives_sorted(flat, order)
         else:
             out = self._derivatives_gathered(flat, order)
         return [o.reshape(t_arr.shape) for o in out]
+
+    def _derivatives_pointwise(self, flat: FloatArray, order: int) -> list[FloatArray] | None:
+        """A few T inside [T0, T7], each by :meth:`eval_point` (the gathered numbers to the bit, without
+        the arrays' fixed cost); None when one lies outside (the general path fills sections 0 and VIII)."""
+        bounds = self._piece_index_bounds_list
+        rows = []
+        for t in flat.tolist():
+            k = bisect_right(bounds, t) - 1  # :meth:`piece_index`: np.searchsorted(…, side="right") − 1
+            if not 0 <= k < self.n_pieces:
+                return None
+            rows.append(self.eval_point(t, k))
+        return [np.array([row[o] for row in rows], dtype=np.float64) for o in range(order + 1)]
+
+    @cached_property
+    def _piece_index_bounds_list(self) -> list[float]:
+        return [float(b) for b in self._piece_index_bounds]
 
     def _derivatives_sorted(self, flat: FloatArray, order: int) -> list[FloatArray]:
         """Sorted T (a table): each piece evaluates its contiguous slice of T, block by block."""

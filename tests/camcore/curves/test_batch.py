@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import camcore
 from camcore.curves import build_curve
 from camcore.curves.batch import _PIECES_PER_PASS, VALUES, characteristic_values
 from camcore.curves.sections import SectionCurve
@@ -137,3 +138,21 @@ def test_one_by_one_newton_equals_the_array_newton(monkeypatch: pytest.MonkeyPat
     assert not taken
     for (t1, k1), (t2, k2) in zip(one_by_one, together):
         assert np.array_equal(t1, t2) and np.array_equal(k1, k2)
+
+
+def test_a_few_times_evaluated_one_by_one_equal_the_arrays_to_the_bit() -> None:
+    """Curve.derivatives of up to 8 times takes the scalar formulas (the tracing solvers ask for one or
+    two at a time): the same bytes as the gathered arrays, at random times, break points, T0 and T7; with
+    a time outside [T0, T7] the arrays' path answers (sections 0 and VIII)."""
+    rng = np.random.default_rng(5)
+    curves = [*_random_section_curves(30, 13), *(camcore.named_curve(n) for n in ("MS", "MCV50", "MT", "TR"))]
+    for curve in curves:
+        assert curve.has_point_formulas
+        breaks = curve.break_points
+        for size in (1, 2, 5, 8):
+            for times in (rng.uniform(curve.t_start, curve.t_end, size), rng.choice(breaks, size),
+                          np.append(rng.uniform(curve.t_start, curve.t_end, size - 1), curve.t_end + 0.1)):
+                for order in (0, 2, 4):
+                    fast = curve.derivatives(times, order)
+                    arrays = curve._derivatives_gathered(np.asarray(times, dtype=np.float64), order)
+                    assert [a.tobytes() for a in fast] == [b.tobytes() for b in arrays], (times, order)
