@@ -54,9 +54,9 @@ ELEMENT_POLISH_WIDTH = 1e-4
 THETA_POLISH_WIDTH_RAD = 1e-5
 #: Gauss-Newton steps of a foot point, at most: each multiplies the error by ~|P − X|·κ ≤ 1e-2
 FOOT_STEPS = 5
-#: a foot that moved less than this has converged [rad]: the next step would move it by ≤ 1e-2 of that
-#: (1e-12 rad, ~1e-10 mm along a 100 mm cam), and the distance is off by about the square of that over
-#: the distance (a foot is where the distance is least): below 1e-16 mm at a 1e-4 mm deviation
+#: a foot whose next step is under this has converged [rad]: it lies within about that of the foot
+#: (~1e-8 mm along a 100 mm cam), and the distance there is off by the square of that over the distance
+#: (a foot is where the distance is least): ~5e-14 mm at a 1e-3 mm deviation, the rounding of the coordinates
 FOOT_STEP_RAD = 1e-10
 
 
@@ -362,9 +362,9 @@ def _nearest_sample(theta: FloatArray, cx: FloatArray, cy: FloatArray, m: int, o
 def _foot(curve: OffsetCurve, px: FloatArray, py: FloatArray, theta: FloatArray, lo: FloatArray,
           hi: FloatArray) -> tuple[FloatArray, FloatArray]:
     """Distance of each point from the curve near θ, and the foot's θ: Gauss-Newton on
-    (P(θ) − X)·P'(θ) = 0, kept within [lo, hi], until no foot moves by more than FOOT_STEP_RAD (at
-    most FOOT_STEPS); any curve point bounds the distance from above, so a foot that stops at an end
-    still gives an upper bound."""
+    (P(θ) − X)·P'(θ) = 0, kept within [lo, hi], until no step would move a foot by more than
+    FOOT_STEP_RAD (at most FOOT_STEPS); any curve point bounds the distance from above, so a foot that
+    stops at an end still gives an upper bound."""
     t = theta.copy()
     for _ in range(FOOT_STEPS):
         x, y, tx, ty, stretch = curve.sample(t)
@@ -372,10 +372,10 @@ def _foot(curve: OffsetCurve, px: FloatArray, py: FloatArray, theta: FloatArray,
         speed2 = stretch * stretch
         step = np.where(speed2 > 0, (dx * tx + dy * ty) * stretch / np.where(speed2 > 0, speed2, 1.0), 0.0)
         moved = np.clip(t - step, lo, hi)
-        # every lane converged, or held at an end of its stretch (a NaN lane does not hold the rest)
-        done = not (np.abs(moved - t) > FOOT_STEP_RAD).any()
+        # every lane converged, or held at an end of its stretch (a NaN lane does not hold the rest): the
+        # distance here is the foot's to within (stretch·FOOT_STEP_RAD)²/(2·distance), below rounding
+        if not (np.abs(moved - t) > FOOT_STEP_RAD).any():
+            return np.hypot(dx, dy), t
         t = moved
-        if done:
-            break
     x, y = curve.points(t)
     return np.hypot(x - px, y - py), t
