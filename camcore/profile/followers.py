@@ -110,9 +110,14 @@ class _PointFollower(FollowerModel):
                    lift: list[FloatArray]) -> Kinematics:
         """Pitch point from :meth:`pitch_point`, surface offset by Rr along the outward normal,
         φ = atan2(u1·v̂, −σ u1·(J v̂)), κp = −σ (u1 × u2)/|u1|³ [1/mm], ρ = 1/κp − Rr [mm]."""
-        h, h1, h2 = lift[0], lift[1], lift[2]
+        return self.kinematics_of(sigma, theta, lift, self.pitch_point(base_radius_mm, lift[0], lift[1], lift[2]))
+
+    def kinematics_of(self, sigma: float, theta: FloatArray, lift: list[FloatArray],
+                      pitch: tuple[FloatArray, ...]) -> Kinematics:
+        """:meth:`kinematics` from the pitch point :meth:`pitch_point` gave (a caller that has it already)."""
+        h, h1 = lift[0], lift[1]
         sg, rr = sigma, self.roller_radius_mm
-        cx, cy, c1x, c1y, c2x, c2y, vx, vy = self.pitch_point(base_radius_mm, h, h1, h2)
+        cx, cy, c1x, c1y, c2x, c2y, vx, vy = pitch
         # u1 = c' − σ J c, u2 = c'' − 2σ J c' − c, with J(x, y) = (−y, x)
         u1x, u1y = c1x + sg * cy, c1y - sg * cx
         u2x = c2x + 2 * sg * c1y - cx

@@ -130,8 +130,9 @@ def _roller(cam: ParallelCam, alpha0: FloatArray, tau: FloatArray) -> tuple[Floa
     # the turret roller with α₀ = 0: its arm angle is the lift, α₀ + φ
     lift = [np.degrees(alpha0 + phi), np.degrees(d1), np.degrees(d2)]
     model = cam.roller_model
-    cx, cy, c1x, c1y, *_ = model.pitch_point(0.0, *lift)
-    k = model.kinematics(0.0, 1.0, tau, lift)
+    pitch = model.pitch_point(0.0, *lift)
+    cx, cy, c1x, c1y, *_ = pitch
+    k = model.kinematics_of(1.0, tau, lift, pitch)
     # u1 = c′ − J·c (σ = +1): the pitch curve's derivative, in the fixed frame
     u1x, u1y = c1x + cy, c1y - cx
     speed = np.hypot(u1x, u1y)
