@@ -278,11 +278,14 @@ def measure(curve: OffsetCurve, spans: list[Span]) -> FloatArray:
     theta = lo[:, None] + (hi - lo)[:, None] * frac[None, :]
     lanes = np.repeat(np.arange(len(live)), m)
 
-    def to_path(lane: np.ndarray, t: FloatArray) -> FloatArray:
-        x, y = curve.points(t)
+    def from_path(lane: np.ndarray, x: FloatArray, y: FloatArray) -> FloatArray:
         return np.minimum(arrays.distance(first[lane], x, y), arrays.distance(last[lane], x, y))
 
-    samples = to_path(lanes, theta.reshape(-1)).reshape(len(live), m)
+    def to_path(lane: np.ndarray, t: FloatArray) -> FloatArray:
+        return from_path(lane, *curve.points(t))
+
+    cx, cy = curve.points(theta.reshape(-1))  # the curve at the samples, for both directions
+    samples = from_path(lanes, cx, cy).reshape(len(live), m)
     forward = samples.max(axis=1)
     rows, cols = _local_maxima(samples)
     if rows.size:
@@ -300,7 +303,7 @@ def measure(curve: OffsetCurve, spans: list[Span]) -> FloatArray:
     u = np.tile(frac, count)
     lane_e = np.repeat(np.arange(count), m)
     px, py = arrays.point(lane_e, u)
-    guess = _nearest_sample(theta[owner[lane_e]], *curve.points(theta.reshape(-1)), m, owner[lane_e], px, py)
+    guess = _nearest_sample(theta, cx, cy, owner, px, py)
     lo_e, hi_e = lo[owner[lane_e]], hi[owner[lane_e]]
     back_distance, back_foot = _foot(curve, px, py, guess, lo_e, hi_e)
     back_samples = back_distance.reshape(count, m)
@@ -350,13 +353,15 @@ def _interpolated(known_u: FloatArray, known: FloatArray, u: FloatArray) -> Floa
     return f0 + w * (f1 - f0)
 
 
-def _nearest_sample(theta: FloatArray, cx: FloatArray, cy: FloatArray, m: int, owner: np.ndarray,
-                    px: FloatArray, py: FloatArray) -> FloatArray:
-    """For each point, the θ of the nearest of its span's curve samples."""
-    sx = cx.reshape(-1, m)[owner]
-    sy = cy.reshape(-1, m)[owner]
-    k = np.argmin(np.hypot(sx - px[:, None], sy - py[:, None]), axis=1)
-    return theta[np.arange(theta.shape[0]), k]
+def _nearest_sample(theta: FloatArray, cx: FloatArray, cy: FloatArray, owner: np.ndarray, px: FloatArray,
+                    py: FloatArray) -> FloatArray:
+    """For each element's points (``px``, ``py``: a row of them per element, flattened), the θ of the
+    nearest of its span's curve samples (``theta``: a row per span; ``cx``, ``cy`` the curve there)."""
+    m = theta.shape[1]
+    sx, sy = cx.reshape(-1, m)[owner], cy.reshape(-1, m)[owner]  # each element's span's samples
+    ex, ey = px.reshape(owner.size, -1), py.reshape(owner.size, -1)
+    k = np.argmin(np.hypot(sx[:, None, :] - ex[:, :, None], sy[:, None, :] - ey[:, :, None]), axis=2)
+    return np.take_along_axis(theta[owner], k, axis=1).reshape(-1)
 
 
 def _foot(curve: OffsetCurve, px: FloatArray, py: FloatArray, theta: FloatArray, lo: FloatArray,
