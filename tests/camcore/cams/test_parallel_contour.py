@@ -223,3 +223,45 @@ def test_the_turret_and_the_centres_are_the_models(curve: str) -> None:
     _, _, _, _, q2x, q2y = centres(cam, alpha0, t)
     assert np.abs((ahead[2] - behind[2]) / (2 * h) - q2x).max() <= 1e-5 * np.abs(q2x).max()
     assert np.abs((ahead[3] - behind[3]) / (2 * h) - q2y).max() <= 1e-5 * np.abs(q2y).max()
+
+
+def test_a_foot_search_gives_up_only_where_the_point_is_off_the_envelope(monkeypatch: pytest.MonkeyPatch) -> None:
+    # points at known gaps g off an envelope, along its normal at cam angle u (their foot): within 2ε
+    # (2e-5 mm at C = 100 mm) the foot is found, beyond it NaN, as the search run all its steps says; the
+    # lanes far off stop it early (fewer evaluations of the envelopes)
+    from camcore.cams.parallel import crossings
+
+    cam = CASES[0].cam()
+    rng = np.random.default_rng(11)
+    eps2 = 2 * COVER_SHARE * cam.center_distance_mm
+    alpha0 = cam.start_angles(0)[0]
+    step = 2 * math.pi / 1444
+    calls = [0]
+    real = crossings.envelope
+
+    def counted(*args: object) -> object:
+        calls[0] += 1
+        return real(*args)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(crossings, "envelope", counted)
+    for gap in (1e-7, 1e-6, 1.9e-5, 2.1e-5, 1e-4, 1e-2, 0.3):
+        for side in (-1.0, 1.0):
+            u = rng.uniform(0.0, 2 * math.pi, 3)
+            e = real(cam, alpha0, side, u)
+            x, y = e.x - gap * e.ty, e.y + gap * e.tx  # along N = J·T, the envelope's normal
+            for k in range(3):
+                start = u[k:k + 1] + rng.uniform(-0.5, 0.5) * step
+                calls[0] = 0
+                found = crossings.feet(cam, np.array([alpha0]), np.array([side]), float(x[k]), float(y[k]), start, step)
+                early = calls[0]
+                # the reference: every step the search may take, no lane given up
+                monkeypatch.setattr(crossings, "FAR_STEP_SHARE", 0.0)
+                calls[0] = 0
+                full = crossings.feet(cam, np.array([alpha0]), np.array([side]), float(x[k]), float(y[k]), start, step)
+                monkeypatch.setattr(crossings, "FAR_STEP_SHARE", 1e-3)
+                assert np.array_equal(found, full, equal_nan=True), (gap, side)
+                assert np.isnan(found[0]) == (gap > eps2), (gap, found)
+                if gap <= eps2:
+                    assert abs(found[0] - u[k]) < 1e-9, (gap, found[0] - u[k])
+                if gap >= 1e-4:
+                    assert early < calls[0], (gap, early, calls[0])
