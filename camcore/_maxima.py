@@ -2,8 +2,8 @@
 
 - :func:`golden_max`: the maximum of a unimodal function on an interval (one new point per
   step); used where each evaluation is a lane of its own (toolpath fitting, dynamics).
-- :func:`polished_max`, :func:`polished_grid_max`: the maximum of a smooth function to within
-  rounding, golden section or shrinking grids to a small width then one parabolic step.
+- :func:`polished_grid_max`: the maximum of a smooth function to within rounding, shrinking grids
+  to a small width, then one parabolic step.
 - :func:`local_grid_max`: the same maxima by shrinking local grids (a few calls of many
   points each); :func:`periodic_grid_maxima` refines several quantities of one grid this way,
   all in one call per round (a profile's checks); :func:`periodic_grid_max` one quantity.
@@ -30,8 +30,8 @@ GOLDEN_ITERATIONS = 80
 #: width [rad] to which :func:`periodic_grid_max` refines an extreme of a function of the cam angle
 PERIODIC_WIDTH = 1e-9
 
-#: width of :func:`polished_max`'s golden section before its parabolic step [-] (1e-5 rad: the vertex then
-#: lies within about |f‴/f″|·1e-10 of the maximum, the value within rounding of the extreme)
+#: width of :func:`polished_grid_max`'s grids before its parabolic step, for a function of the cam angle
+#: [rad] (the vertex then lies within about |f‴/f″|·1e-10 of the maximum, the value within rounding)
 POLISH_WIDTH = 1e-5
 
 #: points of each local grid of :func:`polished_grid_max`: a call narrows an interval 4-fold
@@ -93,53 +93,18 @@ def golden_max(fun: Callable[[FloatArray], FloatArray], a: float | FloatArray, b
     return np.where(better_first, x1, x2), np.where(better_first, f1, f2)
 
 
-def polished_max(fun: Callable[[FloatArray], FloatArray], a: float | FloatArray, b: float | FloatArray,
-                 width: float = POLISH_WIDTH) -> tuple[FloatArray, FloatArray]:
-    """Maxima of smooth unimodal functions on intervals [a, b]: golden section to ``width``, then one
-    parabolic step, all intervals together.
-
-    The golden section leaves each best point within ``width`` of its maximum; the parabola through
-    it and two points a quarter of that width either side (the end of [a, b] instead where the point
-    lies within ``width`` of it) puts its vertex within
-    about |f‴/f″|·width² of the maximum, where the value is within rounding of the extreme — in 16
-    evaluations of ``fun`` from a cell of a 0.25° grid instead of golden section's 32 to 1e-9 rad. The
-    answer is the best point evaluated, so it is never worse than the golden section's own, and a
-    maximum at an end of [a, b] (a kink there) is evaluated at the end itself.
-
-    Parameters
-    ----------
-    fun : callable
-        Vectorised function, evaluated elementwise (lane i only ever sees points of interval i).
-    a, b : float or ndarray
-        The intervals' ends [-].
-    width : float
-        Width of the golden section's last interval [-].
-
-    Returns
-    -------
-    (ndarray, ndarray)
-        The best point of each interval and the value there [-].
-
-    References
-    ----------
-    Kiefer (1953), golden-section search; Brent, *Algorithms for Minimization without Derivatives*
-    (1973), ch. 5 (the parabolic step through three points).
-    """
-    lo = np.atleast_1d(np.asarray(a, dtype=np.float64))
-    hi = np.atleast_1d(np.asarray(b, dtype=np.float64))
-    x, f = golden_max(fun, lo, hi, width=width)
-    return _parabolic_polish(lambda xs: [fun(t) for t in xs], lo, hi, x, f, width)
-
-
 def polished_grid_max(fun: Callable[[FloatArray], FloatArray], a: float | FloatArray, b: float | FloatArray,
                       width: float, points: int = POLISH_GRID_POINTS) -> tuple[FloatArray, FloatArray]:
     """Maxima of smooth unimodal functions on intervals [a, b]: shrinking local grids
-    (:func:`local_grid_max`) to ``width``, then :func:`polished_max`'s parabolic step.
+    (:func:`local_grid_max`) to ``width``, then one parabolic step, all intervals together.
 
-    The same guarantee as :func:`polished_max` (the best grid point lies within ``width`` of the
-    maximum, the vertex within about |f‴/f″|·width² of it) in fewer calls of ``fun``, each of more
-    points: for a function whose every call costs far more than its points (a curve evaluated
-    afresh), ``points`` = 9 narrows an interval 4-fold per call where golden section narrows it 1.6-fold.
+    The best grid point lies within ``width`` of its maximum; the parabola through it and two points a
+    quarter of that width either side (the end of [a, b] instead where the point lies within ``width``
+    of it) puts its vertex within about |f‴/f″|·width² of the maximum, where the value is within
+    rounding of the extreme. The answer is the best point evaluated, and a maximum at an end of [a, b]
+    (a kink there) is evaluated at the end itself. For a function whose every call costs far more than
+    its points (a curve evaluated afresh), ``points`` = 9 narrows an interval 4-fold per call where
+    golden section narrows it 1.6-fold.
 
     Parameters
     ----------
@@ -166,23 +131,12 @@ def polished_grid_max(fun: Callable[[FloatArray], FloatArray], a: float | FloatA
     lo = np.atleast_1d(np.asarray(a, dtype=np.float64))
     hi = np.atleast_1d(np.asarray(b, dtype=np.float64))
     x, f = local_grid_max(fun, lo, hi, width=width, points=points)
-
-    def columns(xs: list[FloatArray]) -> list[FloatArray]:  # several points per interval in one call
-        return list(np.asarray(fun(np.column_stack(xs)), dtype=np.float64).T)
-
-    return _parabolic_polish(columns, lo, hi, x, f, width)
-
-
-def _parabolic_polish(values: Callable[[list[FloatArray]], list[FloatArray]], lo: FloatArray, hi: FloatArray,
-                      x: FloatArray, f: FloatArray, width: float) -> tuple[FloatArray, FloatArray]:
-    """The best of x and the parabolic step from it (:func:`polished_max`), x within ``width`` of each
-    maximum; ``values`` answers the function at each of a list of points per interval."""
     # two points a quarter of the width either side, or the interval's end where the best point lies
     # within the width of it (a maximum at an end, a kink there, is then evaluated at the end itself)
     step = 0.25 * width
     xm = np.where(x - lo < width, lo, x - step)
     xp = np.where(hi - x < width, hi, x + step)
-    fm, fp = values([xm, xp])
+    fm, fp = np.asarray(fun(np.column_stack([xm, xp])), dtype=np.float64).T  # both in one call
     # the vertex of the parabola through (xm, fm), (x, f), (xp, fp); a lane with an infinite value has none
     dm, dp = x - xm, x - xp
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -190,7 +144,7 @@ def _parabolic_polish(values: Callable[[list[FloatArray]], list[FloatArray]], lo
         den = dm * (f - fp) - dp * (f - fm)
         vertex = x - 0.5 * num / den
     vertex = np.clip(np.where(np.isfinite(vertex), vertex, x), xm, xp)
-    (fv,) = values([vertex])
+    fv = np.asarray(fun(vertex[:, None]), dtype=np.float64)[:, 0]
     best_x, best_f = x, f
     for xs, fs in ((xm, fm), (xp, fp), (vertex, fv)):
         better = fs > best_f

@@ -1,7 +1,6 @@
-"""The maxima refinements that dynamics and the toolpath's measurement use (camcore._maxima.polished_max:
-golden section to 1e-5, then one parabolic step (Brent 1973, ch. 5); polished_grid_max: shrinking local
-grids instead of golden section), against golden section to 1e-13 alone (Kiefer 1953) and against maxima
-known in closed form."""
+"""The maxima refinement that dynamics and the toolpath's measurement use (camcore._maxima.polished_grid_max:
+shrinking local grids to 1e-5, then one parabolic step, Brent 1973, ch. 5), against golden section to 1e-13
+(Kiefer 1953) and against maxima known in closed form."""
 
 from __future__ import annotations
 
@@ -9,7 +8,7 @@ import math
 
 import numpy as np
 
-from camcore._maxima import golden_max, polished_grid_max, polished_max
+from camcore._maxima import golden_max, polished_grid_max
 
 
 class SmoothCases:
@@ -38,48 +37,33 @@ class SmoothCases:
         return np.cos(u) + 0.3 * np.sin(3 * u)
 
 
-def test_smooth_maxima_to_rounding_in_fewer_evaluations() -> None:
+def test_grid_polish_to_rounding_in_fewer_calls() -> None:
+    # each row of a call one interval's points (the toolpath's measurement: a call evaluates the exact
+    # curve afresh, so calls count, not points)
     cases = SmoothCases()
-    x, v = polished_max(cases.values, cases.a, cases.b)
-    polished_calls, cases.calls = cases.calls, 0
+    x, v = polished_grid_max(cases.values, cases.a, cases.b, width=1e-5, points=9)
+    grid_calls, cases.calls = cases.calls, 0
     _, vg = golden_max(cases.values, cases.a, cases.b, width=1e-13)
     # the value to rounding (4 ulp of values near 1.2), never below golden section's to 1e-13 by more
     assert np.abs(v - cases.peak).max() <= 4 * np.spacing(cases.peak)
     assert np.all(v >= vg - 4 * np.spacing(cases.peak))
     # the place to the value's own conditioning: √(2 ulp/|f''|) ≈ 1e-8/k rad
     assert np.all(np.abs(x - cases.where) <= 3e-8 / cases.k)
-    # 21 evaluations from these 1.7e-2-wide intervals (2 + 16 golden steps to 1e-5, then 3), golden section
-    # alone 56 to 1e-13 (its 1e-9 of before: 34)
-    assert polished_calls == 21 and cases.calls == 56
+    # 1.7e-2 → 1e-5 by quarters: 7 grids (the 7th finds every interval narrower), then 2 calls for the
+    # parabola (its two points in one call, its vertex in another); golden section alone 56 to 1e-13
+    assert grid_calls == 9 and cases.calls == 56
 
-def test_a_maximum_at_an_end_is_evaluated_there() -> None:
+
+def test_grid_polish_evaluates_a_maximum_at_an_end_there() -> None:
     # a kink: f = 2t − t² rises to the first interval's right end and falls from the second's left end
     # (the maximum of a piece of the turn at a break point): each found at the end itself, exactly
     a, b = np.array([0.0, 1.0]), np.array([0.004, 1.002])
-    x, v = polished_max(lambda t: 2.0 * t - t * t, a, b)
+    x, v = polished_grid_max(lambda t: 2.0 * t - t * t, a, b, width=1e-5)
     assert x.tolist() == [0.004, 1.0] and v.tolist() == [2.0 * 0.004 - 0.004**2, 1.0]
 
 
 def test_lanes_without_a_value_keep_minus_infinity() -> None:
     # dynamics counts a NaN as −inf (a point where a function is not defined never wins): no warning, no value
-    x, v = polished_max(lambda t: np.where(t > 5.0, -np.inf, -(t - 0.3) ** 2), np.array([0.0, 6.0]),
-                        np.array([1.0, 7.0]))
+    x, v = polished_grid_max(lambda t: np.where(t > 5.0, -np.inf, -(t - 0.3) ** 2), np.array([0.0, 6.0]),
+                             np.array([1.0, 7.0]), width=1e-5)
     assert v[0] == 0.0 and abs(x[0] - 0.3) < 1e-8 and v[1] == -np.inf
-
-
-def test_grid_polish_to_rounding_in_fewer_calls() -> None:
-    # the first test's functions and intervals, each row of a call one interval's points (the toolpath's
-    # measurement: a call evaluates the exact curve afresh, so calls count, not points)
-    cases = SmoothCases()
-    x, v = polished_grid_max(cases.values, cases.a, cases.b, width=1e-5, points=9)
-    # the same bounds as golden section's polish: the value to 4 ulp, the place to its conditioning
-    assert np.abs(v - cases.peak).max() <= 4 * np.spacing(cases.peak)
-    assert np.all(np.abs(x - cases.where) <= 3e-8 / cases.k)
-    # 1.7e-2 → 1e-5 by quarters: 7 grids (the 7th finds every interval narrower), then 2 calls for the
-    # parabola (its two points in one call, its vertex in another), against 21 for golden section
-    assert cases.calls == 9
-
-def test_grid_polish_evaluates_a_maximum_at_an_end_there() -> None:
-    a, b = np.array([0.0, 1.0]), np.array([0.004, 1.002])
-    x, v = polished_grid_max(lambda t: 2.0 * t - t * t, a, b, width=1e-5)
-    assert x.tolist() == [0.004, 1.0] and v.tolist() == [2.0 * 0.004 - 0.004**2, 1.0]
