@@ -31,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._maxima import polished_grid_max
+from .._maxima import POLISH_WIDTH, polished_grid_max
 from ..curves.base import FloatArray
 from ..deadline import checkpoint
 from ..errors import GeometryError, LimitExceededError
@@ -49,9 +49,6 @@ NARROWEST_RAD = 1e-10
 #: the local grids' last width along an element (its parameter u runs 0 … 1) before the parabolic
 #: step: the deviation is smooth along an arc, so the vertex lies within ~1e-8 of its maximum
 ELEMENT_POLISH_WIDTH = 1e-4
-#: the same in the cam angle, for the curve's distance from the path (1e-5 rad: the vertex within
-#: ~|f‴/f″|·1e-10 rad of the maximum, the value within rounding of it)
-THETA_POLISH_WIDTH_RAD = 1e-5
 #: Gauss-Newton steps of a foot point, at most: each multiplies the error by ~|P − X|·κ ≤ 1e-2
 FOOT_STEPS = 5
 #: a foot whose next step is under this has converged [rad]: it lies within about that of the foot
@@ -295,7 +292,7 @@ def measure(curve: OffsetCurve, spans: list[Span]) -> FloatArray:
         def to_path_rows(t: FloatArray) -> FloatArray:
             return to_path(np.repeat(rows, t.shape[1]), t.reshape(-1)).reshape(t.shape)
 
-        _, refined = polished_grid_max(to_path_rows, a, b, width=THETA_POLISH_WIDTH_RAD)
+        _, refined = polished_grid_max(to_path_rows, a, b, width=POLISH_WIDTH)
         np.maximum.at(forward, rows, refined)
     # path → curve: each element's points, their feet on the curve (within the span's θ)
     owner = np.repeat(np.arange(len(live)), [len(spans[k].elements) for k in live])
