@@ -16,8 +16,8 @@ cache's memory, bounded by :data:`REPLIES_MAX_BYTES`).
 
 from __future__ import annotations
 
-from collections.abc import Hashable
 from dataclasses import dataclass
+from typing import NamedTuple
 
 from starlette.requests import Request
 from starlette.responses import Response
@@ -58,17 +58,28 @@ class KeptReply(Response):
         self.background = None
 
 
-def request_key(request: Request, body: bytes) -> Hashable | None:
-    """What identifies the request's reply; None for a body too large to be a key."""
+class RequestKey(NamedTuple):
+    """What identifies a request's reply: the request as it came, and the headers the routes read
+    (the answer's format, ``Accept``; whether the body is JSON at all, ``Content-Type``)."""
+
+    method: str
+    path: str
+    query: bytes
+    accept: str
+    content_type: str | None
+    body: bytes
+
+
+def request_key(request: Request, body: bytes) -> RequestKey | None:
+    """The request's key; None for a body too large to be one."""
     if len(body) > KEY_MAX_BYTES:
         return None
     scope, headers = request.scope, request.headers
-    # the headers the routes read: the answer's format (Accept) and whether the body is JSON at all
-    return (scope["method"], scope["path"], scope["query_string"], headers.get("accept", ""),
-            headers.get("content-type"), body)
+    return RequestKey(scope["method"], scope["path"], scope["query_string"], headers.get("accept", ""),
+                      headers.get("content-type"), body)
 
 
-def keep(replies: LRUCache[Reply], request: Request, key: Hashable, response: Response) -> None:
+def keep(replies: LRUCache[Reply], request: Request, key: RequestKey, response: Response) -> None:
     """Keep the response for the key when its operation answered from its own cache, whole and small."""
     if not getattr(request.state, KEPT_FLAG, False) or response.status_code != 200:
         return
@@ -78,14 +89,8 @@ def keep(replies: LRUCache[Reply], request: Request, key: Hashable, response: Re
     length = dict(response.raw_headers).get(b"content-length")
     if length is None or int(length) != len(body):  # a streamed answer's body is not all here
         return
-    reply = Reply(response.status_code, tuple(response.raw_headers), body, len(key_body(key)))
+    reply = Reply(response.status_code, tuple(response.raw_headers), body, len(key.body))
     replies.get_or_create(key, lambda: reply)
-
-
-def key_body(key: Hashable) -> bytes:
-    """The request body a key holds."""
-    assert isinstance(key, tuple)
-    return bytes(key[-1])
 
 
 def reply_size(reply: Reply) -> int:
