@@ -8,6 +8,15 @@ and a fixed list of GET requests (the README's, the charts, the spreadsheet cell
 refusals. Each answer is kept as its status, media type, disposition and the SHA-256 of its
 bytes (the moment a STEP or DXF file was written blanked, :data:`_MOMENTS`, and a DXF's
 classes sorted, :data:`_DXF_CLASSES`). ``tests/service/test_answer_replay.py`` sends the same requests to today's app.
+
+The last bits of a float64 sine, cosine, exponential or power depend on the CPU: numpy calls Intel's
+SVML kernels for them where the CPU has AVX512_SKX and other code elsewhere, so the same commit writes
+some numbers a few ulps apart (an MS table's 101 rows, a barrel cam's contour). Each answer is
+therefore recorded once per kind of CPU (:func:`cpu_kind`): ``answers.json`` on a CPU with AVX512_SKX,
+``answers-without-avx512.json`` elsewhere, the same requests in the same order; the test replays the
+record of the CPU it runs on. ``python -m tests.answer_replay --same-requests`` answers the requests of
+``answers.json`` again into this CPU's record: run it on the commit whose answers are the reference,
+on a CPU of the other kind.
 """
 
 from __future__ import annotations
@@ -16,6 +25,7 @@ import asyncio
 import hashlib
 import json
 import re
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -23,6 +33,8 @@ import httpx
 
 ROOT = Path(__file__).resolve().parents[1]
 RECORD = ROOT / "tests" / "data" / "answers.json"
+#: the same requests answered on a CPU without AVX512_SKX (module notes)
+RECORD_WITHOUT_AVX512 = ROOT / "tests" / "data" / "answers-without-avx512.json"
 DOCUMENT = ROOT / "openapi" / "openapi.json"
 
 #: what a file says of the moment it was written: OpenCASCADE's STEP header
@@ -129,17 +141,34 @@ async def answer(client: httpx.AsyncClient, request: dict[str, Any]) -> dict[str
             "sha256": hashlib.sha256(content).hexdigest(), "bytes": len(content)}
 
 
-async def record() -> None:
+def cpu_kind() -> str:
+    """``avx512`` where numpy dispatches its AVX512_SKX kernels (SVML's float64 sine, cosine,
+    exponential, …), else ``without-avx512``."""
+    from numpy._core._multiarray_umath import __cpu_features__
+
+    return "avx512" if __cpu_features__.get("AVX512_SKX") else "without-avx512"
+
+
+def record_of(kind: str) -> Path:
+    """The record of the answers on a kind of CPU (:func:`cpu_kind`)."""
+    return RECORD if kind == "avx512" else RECORD_WITHOUT_AVX512
+
+
+async def record(same_requests: bool) -> None:
+    """Answer :func:`requests` (or, with ``same_requests``, those of :data:`RECORD`) into this CPU's record."""
     from service.app import create_app
 
+    asked = [{key: e[key] for key in ("method", "path", "body", "headers")}
+             for e in json.loads(RECORD.read_text(encoding="utf-8"))] if same_requests else requests()
     async with httpx.AsyncClient(transport=httpx.ASGITransport(app=create_app()), base_url="http://testserver",
                                  timeout=120) as client:
         entries = []
-        for request in requests():
+        for request in asked:
             entries.append({**request, "answer": await answer(client, request)})
-    RECORD.write_text(json.dumps(entries, indent=1, ensure_ascii=False) + "\n", encoding="utf-8")
-    print(f"{len(entries)} answers recorded in {RECORD.relative_to(ROOT)}")
+    path = record_of(cpu_kind())
+    path.write_text(json.dumps(entries, indent=1, ensure_ascii=False) + "\n", encoding="utf-8")
+    print(f"{len(entries)} answers recorded in {path.relative_to(ROOT)}")
 
 
 if __name__ == "__main__":
-    asyncio.run(record())
+    asyncio.run(record(same_requests="--same-requests" in sys.argv[1:]))
