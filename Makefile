@@ -31,8 +31,9 @@ lint: $(VENV)/.installed
 	$(VENV)/bin/mypy camcore service
 
 # the tests that time or weigh the machine (bench ratios, load with wrk, the memory soak, the image's
-# pod) run alone; everything else first on both cores. Both parts run; either failing fails the target.
-ALONE_TESTS := bench or wrk or soak or image
+# pod, a computation's CPU time against its estimate) run alone; everything else first on both cores.
+# Both parts run; either failing fails the target.
+ALONE_TESTS := bench or wrk or soak or image or timing
 
 test: test-tools $(VENV)/.installed lint
 	PYTHONDONTWRITEBYTECODE= $(PY) -m pytest -n 2 --dist worksteal -m "not ($(ALONE_TESTS))"; shared=$$?; \

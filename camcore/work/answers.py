@@ -4,9 +4,11 @@ from __future__ import annotations
 
 #: encoding cost per number, measured 0.025 µs (JSON, orjson) and 0.2 µs (CSV), ×1.5
 ENCODE_S_PER_VALUE = {"json": 1.5 * 2.5e-8, "csv": 1.5 * 2e-7}
-#: rendering one chart, measured with 2 001 points: SVG 0.20-0.35 s, PNG at 300 dpi 0.39-0.75 s;
-#: the estimate is 0.35 s plus, for PNG, 0.45 s × (dpi/300)², ×1.15
-RENDER_S = 0.35
+#: rendering one chart, measured with 2 001 points: SVG 0.20-0.35 s, PNG at 300 dpi 0.39-0.75 s
+#: (2-vCPU Intel Xeon VM); a catalog curve's SVG 0.33-0.47 s on a slower 2-vCPU AMD EPYC VM
+#: (2026-12-07, where 0.35 s × 1.15 fell short); the estimate is 0.45 s plus, for PNG,
+#: 0.45 s × (dpi/300)², ×1.15
+RENDER_S = 0.45
 PNG_AT_300_DPI_S = 0.45
 #: the residual-vibration spectra (up to 8 traces on a log axis with its minor grid): SVG
 #: 0.36-0.62 s, PNG 0.29-0.59 s (2-5 curves, 101-2001 τ values)

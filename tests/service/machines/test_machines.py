@@ -44,6 +44,7 @@ from service.machines.specs import (
 from service.operations import JSON
 from service.profiles.specs import ROLLER_PROFILE_EXAMPLE
 from service.settings import Settings
+from tests.estimates import within_estimate
 
 pytestmark = pytest.mark.anyio
 
@@ -322,11 +323,6 @@ async def test_an_axis_over_the_budget_is_413_at_its_own_field(
     assert no_work == []
 
 
-#: work shorter than this is not compared with its estimate (as in test_every_operation: a collection or a
-#: first call into a numpy routine costs a few ms)
-NOISE_S = 0.005
-
-
 def readme_machine() -> dict[str, Any]:
     """The body of the README's curl recipe for POST /v1/machines."""
     readme = (Path(__file__).resolve().parents[3] / "README.md").read_text(encoding="utf-8")
@@ -336,6 +332,7 @@ def readme_machine() -> dict[str, Any]:
     return body
 
 
+@pytest.mark.timing
 @pytest.mark.parametrize("name", [*[n for n in MACHINE_EXAMPLES if n != next(iter(MACHINE_EXAMPLES))], "README"])
 def test_the_estimate_bounds_the_work_of_the_other_examples(name: str) -> None:
     """test_every_operation runs the first example (feed_and_table) in every format; here the others: a drive
@@ -355,7 +352,7 @@ def test_the_estimate_bounds_the_work_of_the_other_examples(name: str) -> None:
         seconds = time.thread_time() - start
     finally:
         gc.enable()
-    assert seconds <= max(estimate, NOISE_S), f"{name}: {seconds:.4f} s, estimated {estimate:.4f} s"
+    assert within_estimate(seconds, estimate), f"{name}: {seconds:.4f} s, estimated {estimate:.4f} s"
 
 
 # ----------------------------------------------------------------------------- 5. the rule's phase slack

@@ -31,6 +31,7 @@ from service.operations import Format, Operation, cells
 from service.operations.factory import Route, routes_of
 from service.registry import OPERATIONS
 from service.settings import Settings
+from tests.estimates import within_estimate
 from tests.readers import read
 
 pytestmark = pytest.mark.anyio
@@ -110,6 +111,7 @@ async def test_each_example_answers_200(client: httpx.AsyncClient, operation: Op
         assert r.status_code == 200, (name, r.text)
 
 
+@pytest.mark.timing
 @pytest.mark.parametrize(("operation", "how", "route", "fmt", "query", "headers"), WAYS,
                          ids=[f"{w[0].id}-{w[1]}-{w[3].name}" for w in WAYS])
 async def test_every_format_answers_as_declared_within_its_estimate(
@@ -130,7 +132,7 @@ async def test_every_format_answers_as_declared_within_its_estimate(
     assert read(answered, r.content), "its reader found nothing in it"  # a second program takes it back
     if how in ("default", "?format"):  # once per format, the request above having loaded what it needs
         seconds, estimate = cold_run(operation, fmt)
-        assert seconds <= max(estimate, NOISE_S), f"{operation.id} as {fmt.name}: {seconds:.4f} s, estimated " \
+        assert within_estimate(seconds, estimate), f"{operation.id} as {fmt.name}: {seconds:.4f} s, estimated " \
                                                   f"{estimate:.4f} s"
 
 
@@ -185,7 +187,6 @@ async def test_a_wrong_field_is_refused_naming_it(client: httpx.AsyncClient, ope
 #: work shorter than this is not compared with its estimate: a garbage collection or a first
 #: call into a numpy routine costs a few milliseconds, far below the budget (1 s) and the
 #: inline limit (3 ms) the estimates decide
-NOISE_S = 0.005
 
 
 def cold_run(operation: Operation, fmt: Format) -> tuple[float, float]:
