@@ -35,8 +35,14 @@ class ReturnCurve(Curve):
         self.piece_starts[0] = ends[0]
         self.t_end = float(ends[-1])
         self.scale = getattr(rise, "scale", None)
+        self.has_point_formulas = rise.has_point_formulas
 
     def eval_pieces(self, t: FloatArray, piece: NDArray[np.intp], order: int) -> list[FloatArray]:
         vals = self.rise.eval_pieces(self._mirror - t, self.rise.n_pieces - 1 - piece, order)
         # 0 − x, not −x: a rise at rest (V = +0) gives a return at rest, not at −0
+        return [v if i % 2 == 0 else 0.0 - v for i, v in enumerate(vals)]
+
+    def eval_point(self, t: float, k: int) -> list[float]:
+        # the rise's scalar formulas at the same mirrored time and piece as eval_pieces: the same bits
+        vals = self.rise.eval_point(self._mirror - t, self.rise.n_pieces - 1 - k)
         return [v if i % 2 == 0 else 0.0 - v for i, v in enumerate(vals)]

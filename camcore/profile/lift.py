@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from typing import Any, Literal, Protocol
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from ..curves.base import FloatArray
 from ..curves.catalog import named_curve
@@ -156,18 +156,26 @@ class LiftSchedule:
     def derivatives(self, theta: ArrayLike, order: int = 2) -> list[FloatArray]:
         th = np.asarray(theta, dtype=np.float64)
         flat = np.mod(th.reshape(-1), TWO_PI)
-        idx = np.clip(np.searchsorted(self._starts, flat, side="right") - 1, 0, len(self._pieces) - 1)
-        out = [np.zeros_like(flat) for _ in range(order + 1)]
-        for k, p in enumerate(self._pieces):
-            sel = idx == k
-            if not sel.any():
-                continue
+        # the first piece starts at 0 and flat ≥ 0, so the index is one of the pieces (NaN: the last)
+        idx = np.searchsorted(self._starts, flat, side="right") - 1
+        out = list(np.zeros((order + 1, flat.size)))
+        # np.minimum/np.maximum, not np.clip: the same numbers without its Python wrappers (the solvers
+        # ask for one to a few hundred angles at a time, hundreds of times per request)
+        first, last = (int(idx.min()), int(idx.max())) if flat.size else (0, -1)
+        for k in range(first, last + 1):
+            p = self._pieces[k]
+            sel: slice | NDArray[np.bool_] = slice(None)  # every angle on this piece: no selection
+            if first != last:
+                on_piece = idx == k
+                if not on_piece.any():
+                    continue
+                sel = on_piece
             if p.curve is None:
                 out[0][sel] = p.level
                 continue
             c = p.curve
             rate = (c.t_end - c.t_start) / p.span
-            u = np.clip((flat[sel] - p.start) / p.span, 0.0, 1.0)
+            u = np.minimum(np.maximum((flat[sel] - p.start) / p.span, 0.0), 1.0)
             vals = c.derivatives(c.t_start + (c.t_end - c.t_start) * u, order)
             gain = p.amount / (p.s1 - p.s0)
             out[0][sel] = p.level + gain * (vals[0] - p.s0)

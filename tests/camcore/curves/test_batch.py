@@ -13,6 +13,7 @@ import pytest
 import camcore
 from camcore.curves import build_curve
 from camcore.curves.batch import _PIECES_PER_PASS, VALUES, characteristic_values
+from camcore.curves.reverse import ReturnCurve
 from camcore.curves.sections import SectionCurve
 
 
@@ -143,9 +144,11 @@ def test_one_by_one_newton_equals_the_array_newton(monkeypatch: pytest.MonkeyPat
 def test_a_few_times_evaluated_one_by_one_equal_the_arrays_to_the_bit() -> None:
     """Curve.derivatives of up to 8 times takes the scalar formulas (the tracing solvers ask for one or
     two at a time): the same bytes as the gathered arrays, at random times, break points, T0 and T7; with
-    a time outside [T0, T7] the arrays' path answers (sections 0 and VIII)."""
+    a time outside [T0, T7] the arrays' path answers (sections 0 and VIII). Their return strokes too
+    (a plate cam's return segment), through the rise's scalar formulas at the mirrored time."""
     rng = np.random.default_rng(5)
-    curves = [*_random_section_curves(30, 13), *(camcore.named_curve(n) for n in ("MS", "MCV50", "MT", "TR"))]
+    rises = [*_random_section_curves(30, 13), *(camcore.named_curve(n) for n in ("MS", "MCV50", "MT", "TR"))]
+    curves = [*rises, *(ReturnCurve(c) for c in rises[::3])]
     for curve in curves:
         assert curve.has_point_formulas
         breaks = curve.break_points
