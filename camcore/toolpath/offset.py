@@ -122,7 +122,9 @@ class OffsetCurve:
 
     def sample(self, theta: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
         """x, y of P, the unit tangent tx, ty of B as θ grows, and the stretch a + d·b (dP/dθ = stretch·T)."""
-        base = base_curve(self.spec, theta)
+        return self._sampled(base_curve(self.spec, theta))
+
+    def _sampled(self, base: BaseSample) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
         d = self.offset_mm
         sg = self.spec.sigma
         tx, ty = sg * base.ny, -sg * base.nx  # T = −σ J N, J(x, y) = (−y, x)
@@ -135,7 +137,12 @@ class OffsetCurve:
 
     def travel(self, theta: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
         """x, y, the unit tangent of P in the direction P moves as θ grows, and |dP/dθ| [mm/rad]."""
-        x, y, tx, ty, stretch = self.sample(theta)
+        return self._travelled(self.sample(theta))
+
+    @staticmethod
+    def _travelled(sampled: tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
+                   ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+        x, y, tx, ty, stretch = sampled
         sign = np.where(stretch >= 0.0, 1.0, -1.0)
         return x, y, sign * tx, sign * ty, np.abs(stretch)
 
@@ -149,8 +156,8 @@ class OffsetCurve:
         return self._one(np.array([theta]))
 
     def _one(self, t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-        base = base_curve(self.spec, t)
-        x, y, tx, ty, _ = self.travel(t)
+        base = base_curve(self.spec, t)  # once: the point, its travel tangent and the normal all read it
+        x, y, tx, ty, _ = self._travelled(self._sampled(base))
         return (np.array([x[0], y[0]]), np.array([tx[0], ty[0]]), np.array([base.nx[0], base.ny[0]]))
 
     def base_point(self, theta: float) -> FloatArray:
