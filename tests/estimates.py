@@ -12,16 +12,26 @@ same 2·10⁵ iterations, minutes apart). So the work is compared with the estim
 loop just then (never less than 1): an estimate short of its own work still fails on a machine
 as fast as those the estimates were measured on; a slower machine, or a slower minute, does not
 fail it (docs/robustness.md).
+
+The loop does not see one difference: without AVX512_SKX numpy computes float64 sines, cosines and
+arctangents with other code than Intel's SVML (tests/answer_replay.py), np.sin at 16.5 ns an
+element on that VM, and the estimates were measured with SVML. There a barrel cam's toolpath at
+1e-4 mm, sines of the lift all through, took 1.66 times its estimate while the loop ran at its
+reference speed. On such a CPU the spread is :data:`SPREAD_WITHOUT_AVX512`.
 """
 
 from __future__ import annotations
 
 import time
 
+from tests.answer_replay import cpu_kind
+
 #: below this, a thread's CPU time is the clock's noise [s]
 NOISE_S = 0.005
 #: the work against its estimate, on a machine running the loop at REFERENCE_LOOP_S (module notes) [-]
 MACHINE_SPREAD = 1.35
+#: the same on a CPU without AVX512_SKX: 1.66 measured (module notes), and room for noise [-]
+SPREAD_WITHOUT_AVX512 = 2.0
 #: iterations of the loop that times the machine
 LOOP_ITERATIONS = 200_000
 #: the loop's CPU time on that VM at its fastest (module notes): 7.7 ms measured, rounded down [s]
@@ -42,4 +52,5 @@ def slowness() -> float:
 
 def within_estimate(seconds: float, estimate: float) -> bool:
     """Whether ``seconds`` of work is within the estimate on this machine as it runs now."""
-    return seconds <= max(MACHINE_SPREAD * slowness() * estimate, NOISE_S)
+    spread = MACHINE_SPREAD if cpu_kind() == "avx512" else SPREAD_WITHOUT_AVX512
+    return seconds <= max(spread * slowness() * estimate, NOISE_S)
