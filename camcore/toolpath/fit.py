@@ -40,6 +40,7 @@ from .offset import LEFT_LIMIT_RAD, OffsetCurve
 
 #: samples per biarc (over its stretch of θ) and per element (along it) for the measurement
 MEASURE_SAMPLES = 32
+MEASURE_GRID_POINTS = 9
 #: the greedy search aims at this fraction of the tolerance, so the measurement between the
 #: grid points (which the search does not see) rarely sends a biarc back
 AIM = 0.8
@@ -210,7 +211,10 @@ def _farthest_fit(trial: Callable[[int, int], tuple[tuple[Element, ...] | None, 
             j = (good + bad) // 2 if bad <= n else min(n, i + 2 * (good - i))
             continue
         reach = i + (ref - i) * (aim_mm / ref_d) ** (1.0 / power)
-        j = int(min(max(math.floor(reach), good + 1), bad - 1, n, i + 4 * max(1, good - i)))
+        # beyond a good point the law extrapolates, so at most 4 times as far; below a bad one it
+        # interpolates (a first guess just too long: the next trial is just short of it, not 4 steps)
+        most = i + 4 * max(1, good - i) if ref == good else bad - 1
+        j = int(min(max(math.floor(reach), good + 1), bad - 1, n, most))
 
 
 def _split(curve: OffsetCurve, theta0: float, theta1: float, start: tuple[FloatArray, FloatArray],
@@ -292,7 +296,7 @@ def measure(curve: OffsetCurve, spans: list[Span]) -> FloatArray:
         def to_path_rows(t: FloatArray) -> FloatArray:
             return to_path(np.repeat(rows, t.shape[1]), t.reshape(-1)).reshape(t.shape)
 
-        _, refined = polished_grid_max(to_path_rows, a, b, width=POLISH_WIDTH)
+        _, refined = polished_grid_max(to_path_rows, a, b, width=POLISH_WIDTH, points=MEASURE_GRID_POINTS)
         np.maximum.at(forward, rows, refined)
     # path → curve: each element's points, their feet on the curve (within the span's θ)
     owner = np.repeat(np.arange(len(live)), [len(spans[k].elements) for k in live])
@@ -323,7 +327,7 @@ def measure(curve: OffsetCurve, spans: list[Span]) -> FloatArray:
             known_u, known_foot = uu, feet.reshape(uu.shape)
         return distance.reshape(uu.shape)
 
-    _, refined_back = polished_grid_max(to_curve, ua, ub, width=ELEMENT_POLISH_WIDTH)
+    _, refined_back = polished_grid_max(to_curve, ua, ub, width=ELEMENT_POLISH_WIDTH, points=MEASURE_GRID_POINTS)
     backward = np.maximum(backward, refined_back)
     per_span = np.zeros(len(live))
     np.maximum.at(per_span, owner, backward)
