@@ -318,19 +318,43 @@ class ElementArrays:
         self.a0 = np.arctan2(self.sy - self.cy, self.sx - self.cx)
         self.sweep = np.array([e.sweep_rad for e in elements])
 
-    def distance(self, lane: np.ndarray, x: FloatArray, y: FloatArray) -> FloatArray:
-        """Distance of point i from element ``lane[i]`` [mm]."""
+    def distance_slope(self, lane: np.ndarray, x: FloatArray, y: FloatArray, vx: FloatArray, vy: FloatArray
+                       ) -> tuple[FloatArray, FloatArray]:
+        """Distance of point i from element ``lane[i]`` [mm], and its rate as the point moves at
+        (vx, vy): the velocity along the unit vector from the element's nearest point [mm per unit of
+        the velocity's parameter] (0 on the element)."""
         sx, sy, ex, ey = self.sx[lane], self.sy[lane], self.ex[lane], self.ey[lane]
         dx, dy = ex - sx, ey - sy
         length2 = dx * dx + dy * dy
         with np.errstate(invalid="ignore", divide="ignore"):
             u = np.clip(np.where(length2 > 0, ((x - sx) * dx + (y - sy) * dy) / length2, 0.0), 0.0, 1.0)
-        line = np.hypot(x - (sx + u * dx), y - (sy + u * dy))
+        # from the nearest point: the line's foot, the arc's centre (radially), or the nearer end
+        fx, fy = x - (sx + u * dx), y - (sy + u * dy)
+        line = np.hypot(fx, fy)
         cx, cy, sweep = self.cx[lane], self.cy[lane], self.sweep[lane]
         rel = np.mod((np.arctan2(y - cy, x - cx) - self.a0[lane]) * np.where(sweep < 0, -1.0, 1.0), 2 * math.pi)
-        to_ends = np.minimum(np.hypot(x - sx, y - sy), np.hypot(x - ex, y - ey))
-        arc = np.where(rel <= np.abs(sweep), np.abs(np.hypot(x - cx, y - cy) - self.r[lane]), to_ends)
-        return np.where(self.arc[lane], arc, line)
+        to_start, to_end = np.hypot(x - sx, y - sy), np.hypot(x - ex, y - ey)
+        start_nearer = to_start <= to_end
+        to_ends = np.minimum(to_start, to_end)
+        on_arc = rel <= np.abs(sweep)
+        rx, ry = x - cx, y - cy
+        radius = np.hypot(rx, ry)
+        arc = np.where(on_arc, np.abs(radius - self.r[lane]), to_ends)
+        is_arc = self.arc[lane]
+        distance = np.where(is_arc, arc, line)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            radial = np.sign(radius - self.r[lane]) * (rx * vx + ry * vy) / radius
+            end = np.where(start_nearer, (x - sx) * vx + (y - sy) * vy, (x - ex) * vx + (y - ey) * vy) / to_ends
+            slope = np.where(is_arc & on_arc, radial, np.where(is_arc, end, (fx * vx + fy * vy) / line))
+        return distance, np.where(distance > 0, slope, 0.0)
+
+    def velocity(self, lane: np.ndarray, u: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """d/du of :meth:`point` [mm]."""
+        a = self.a0[lane] + u * self.sweep[lane]
+        rs = self.r[lane] * self.sweep[lane]
+        arc = self.arc[lane]
+        return (np.where(arc, -rs * np.sin(a), self.ex[lane] - self.sx[lane]),
+                np.where(arc, rs * np.cos(a), self.ey[lane] - self.sy[lane]))
 
     def point(self, lane: np.ndarray, u: FloatArray) -> tuple[FloatArray, FloatArray]:
         """The point a fraction ``u`` (0 … 1) along element ``lane[i]`` [mm]."""
