@@ -234,8 +234,9 @@ def _path(spec: CamSpec, wall: str, w: float, eps: float, rt: float, tol: float,
     corner_rad = [math.radians(c) for c in corners(spec)]
     turns = {c: corner_turn(spec, c) for c in corner_rad}
     on_grid = BaseOnGrid.of(spec)  # the wall's checks, its concave radius and the path's cusps all scan it
-    _check_wall(spec, wall, w, corner_rad, turns, on_grid)
-    radius, at_rad = concave_radius(spec, w, eps, corner_rad, turns, on_grid)
+    undercut, concave = _wall_extremes(spec, w, eps, on_grid)
+    _check_wall(spec, wall, w, corner_rad, turns, undercut)
+    radius, at_rad = _concave_radius(concave, w, eps, corner_rad, turns)
     gouges = rt > radius
     where = "" if at_rad is None else f" at cam angle {math.degrees(at_rad):.4g}°"
     if gouges and not allow_gouge:
@@ -329,9 +330,25 @@ class BaseOnGrid:
         return cls(grid, base_curve(spec, grid))
 
 
+def _wall_extremes(spec: CamSpec, w: float, eps: float, on_grid: BaseOnGrid
+                   ) -> tuple[tuple[float, float], tuple[float, float]]:
+    """The wall's worst shrink (−(a + w·b), scaled: ≥ 0 where it loops) and its largest curvature
+    concave towards the tool on side ε, each with its cam angle [rad]: one scan of the check grid
+    refines both, one evaluation of the base curve per round for the two."""
+    scale = float(np.abs(on_grid.base.a).max())
+
+    def both(b: BaseSample) -> FloatArray:
+        stretch = b.a + w * b.b
+        with np.errstate(divide="ignore", invalid="ignore"):  # a looping wall's stretch passes 0: refused below
+            return np.stack([-stretch / scale, -eps * b.b / stretch])
+
+    undercut, concave = periodic_grid_maxima(lambda t: both(base_curve(spec, t)), on_grid.grid, both(on_grid.base))
+    return undercut, concave
+
+
 def _check_wall(spec: CamSpec, wall: str, w: float, corner_rad: list[float], turns: dict[float, float],
-                on_grid: BaseOnGrid) -> None:
-    """Refuse a wall that loops (undercut) or has a corner its offset cannot follow."""
+                undercut: tuple[float, float]) -> None:
+    """Refuse a wall that loops (undercut, :func:`_wall_extremes`) or has a corner its offset cannot follow."""
     name = wall.replace("-", " ")
     if corner_rad and spec.model.flat_faced:
         raise GeometryError(f"the lift's velocity jumps at cam angle {math.degrees(corner_rad[0]):.6g}°: a flat face "
@@ -342,14 +359,7 @@ def _check_wall(spec: CamSpec, wall: str, w: float, corner_rad: list[float], tur
                 f"the {name} has a sharp corner at cam angle {math.degrees(c):.6g}° (the lift's velocity jumps there); "
                 "a toolpath is made for walls whose corners are rounded by the roller: give the motion a continuous "
                 "velocity.", field=("profile",))
-    base = on_grid.base
-    scale = float(np.abs(base.a).max())
-
-    def shrink(b: BaseSample) -> FloatArray:
-        return -(b.a + w * b.b) / scale
-
-    ((worst_t, worst),) = periodic_grid_maxima(lambda t: shrink(base_curve(spec, t))[None, :], on_grid.grid,
-                                               shrink(base)[None, :])
+    worst_t, worst = undercut
     if worst >= 0.0:
         raise GeometryError(
             f"the {name} is undercut at cam angle {math.degrees(worst_t):.6g}°: its curvature is tighter than the "
@@ -388,12 +398,13 @@ def concave_radius(spec: CamSpec, w: float, eps: float, corner_rad: list[float],
     κ/(1 + dκ); a tool of radius Rt fits a concave radius ρ only if Rt ≤ ρ.
     """
     on_grid = BaseOnGrid.of(spec) if on_grid is None else on_grid
+    return _concave_radius(_wall_extremes(spec, w, eps, on_grid)[1], w, eps, corner_rad, turns)
 
-    def concave_curvature(b: BaseSample) -> FloatArray:
-        return -eps * b.b / (b.a + w * b.b)
 
-    ((at, k),) = periodic_grid_maxima(lambda t: concave_curvature(base_curve(spec, t))[None, :], on_grid.grid,
-                                      concave_curvature(on_grid.base)[None, :])
+def _concave_radius(concave: tuple[float, float], w: float, eps: float, corner_rad: list[float],
+                    turns: dict[float, float]) -> tuple[float, float | None]:
+    """:func:`concave_radius` from the wall's largest concave curvature and its cam angle (:func:`_wall_extremes`)."""
+    at, k = concave
     radius, where = (1.0 / k, at) if k > 0 else (math.inf, None)
     for c in corner_rad:
         # a corner concave towards the tool: the wall there is the roller's arc, radius |w|

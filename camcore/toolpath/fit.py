@@ -537,5 +537,6 @@ def _nearest_sample(theta: FloatArray, cx: FloatArray, cy: FloatArray, owner: In
     m = theta.shape[1]
     sx, sy = cx.reshape(-1, m)[owner], cy.reshape(-1, m)[owner]  # each element's span's samples
     ex, ey = px.reshape(owner.size, -1), py.reshape(owner.size, -1)
-    k: IntArray = np.argmin(np.hypot(sx[:, None, :] - ex[:, :, None], sy[:, None, :] - ey[:, :, None]), axis=2)
+    dx, dy = sx[:, None, :] - ex[:, :, None], sy[:, None, :] - ey[:, :, None]
+    k: IntArray = np.argmin(dx * dx + dy * dy, axis=2)  # the squares order as the distances do, at a third of hypot's cost
     return k.reshape(-1)
