@@ -73,8 +73,8 @@ def distance_minima(cam: ParallelCam, alpha0: FloatArray, qx: FloatArray, qy: Fl
         # past a maximum (curve ≤ 0) go downhill by a gradient step scaled by |P′|²
         scale = np.where(curve > 0, curve, p1x * p1x + p1y * p1y)
         moved = np.clip(t - slope / scale, lo, hi)
-        if np.array_equal(moved, t):  # no angle moved: every later step would repeat this one
-            break
+        if np.array_equal(moved, t):  # no angle moved: every later step would repeat this one, and
+            return np.hypot(dx, dy), t  # the centres at t are at hand
         t = moved
     px, py, *_ = centres(cam, alpha0, t)
     return np.hypot(px - qx, py - qy), t
