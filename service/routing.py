@@ -16,6 +16,11 @@ would have found itself (the same 422).
 
 A request answered before from its operation's own cache is answered with its kept reply
 before FastAPI solves the endpoint's parameters (:mod:`service.replies`).
+
+FastAPI asks of every parameter and every encoded value whether it is a pydantic v1 model (to
+refuse one), importing ``pydantic.v1`` to ask: 67 ms of a cold start on the slower VM, for a
+question whose answer is no while nothing has imported ``pydantic.v1`` (no class can derive from
+its BaseModel before). :func:`_ask_pydantic_v1_only_once_imported` makes FastAPI ask only then.
 """
 
 from __future__ import annotations
@@ -23,6 +28,7 @@ from __future__ import annotations
 import asyncio
 import functools
 import json
+import sys
 import weakref
 from collections.abc import Callable, Coroutine
 from typing import Any
@@ -79,6 +85,27 @@ def loads(body: bytes) -> Any:
             pass
     return json.loads(body)
 
+
+def _ask_pydantic_v1_only_once_imported() -> None:
+    """FastAPI's pydantic v1 checks answer False without importing ``pydantic.v1`` while it is not
+    imported (module notes); once it is, they ask as before."""
+    import fastapi.encoders
+    from fastapi._compat import shared
+
+    for module, name in ((shared, "is_pydantic_v1_model_class"), (shared, "is_pydantic_v1_model_instance"),
+                         (fastapi.encoders, "is_pydantic_v1_model_instance")):
+        asks = getattr(module, name, None)
+        if asks is None or getattr(asks, "only_once_imported", False):
+            continue
+
+        def guarded(obj: Any, asks: Callable[[Any], bool] = asks) -> bool:
+            return "pydantic.v1" in sys.modules and asks(obj)
+
+        guarded.only_once_imported = True  # type: ignore[attr-defined]
+        setattr(module, name, guarded)
+
+
+_ask_pydantic_v1_only_once_imported()
 
 _SLOTS: weakref.WeakKeyDictionary[asyncio.AbstractEventLoop, anyio.CapacityLimiter] = weakref.WeakKeyDictionary()
 
