@@ -1,8 +1,9 @@
 """Toolpaths: the cutter-centre path of a plate cam's wall(s), fitted with lines and arcs.
 
 Map: :mod:`.offset` (the exact offset curve from the lift's derivatives), :mod:`.geometry`
-(lines, arcs, biarcs, distances), :mod:`.fit` (greedy biarc fitting, deviation measured both
-ways), :mod:`.compute` (walls, gouge and undercut checks, corners, the closed paths).
+(lines, arcs, biarcs, distances), :mod:`.fit` (greedy biarc fitting), :mod:`.measure` (the
+deviation measured both ways), :mod:`.compute` (walls, gouge and undercut checks, corners,
+the closed paths).
 Files: :data:`camcore.export.TOOLPATH_FORMATS` (G-code, DXF).
 """
 

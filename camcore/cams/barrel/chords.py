@@ -20,8 +20,9 @@ from ...curves.base import FloatArray
 from ...deadline import checkpoint
 from ...errors import GeometryError
 from ...profile.lift import TWO_PI
-from ...toolpath.fit import Budget, Span, measure
+from ...toolpath.fit import Budget
 from ...toolpath.geometry import Element
+from ...toolpath.measure import Span, measure
 from .geometry import BarrelCam
 
 #: greedy grid: cam angles per turn (finer where a span misses: 8 times, then again)
@@ -156,7 +157,7 @@ def chord_deviation(curve: DevelopedPath, spans: list[Span]) -> FloatArray:
     at :data:`CHORD_SAMPLES` points), the arc is a graph over the chord: each point of either has
     a partner on the other at its distance f from the chord's line, so the deviation both ways
     is max |f|, found at the samples and refined by golden section. A span where the check fails
-    is measured by the general route (:func:`camcore.toolpath.fit.measure`).
+    is measured by the general route (:func:`camcore.toolpath.measure.measure`).
 
     Parameters
     ----------
@@ -172,7 +173,7 @@ def chord_deviation(curve: DevelopedPath, spans: list[Span]) -> FloatArray:
 
     References
     ----------
-    Kiefer (1953), golden section; camcore.toolpath.fit (the general measure, both ways).
+    Kiefer (1953), golden section; camcore.toolpath.measure (the general measure, both ways).
     """
     checkpoint()
     t0 = np.array([s.theta0 for s in spans])

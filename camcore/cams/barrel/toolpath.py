@@ -43,7 +43,7 @@ the path is fitted, and measured, in the developed plane of the cam's outer radi
 (the largest radius the cutter's side cuts the wall), and measured again at the pitch radius.
 The nodes lie on the exact path; the greedy search takes the longest chords whose grid points
 stay within 0.8 of the tolerance, and each chord is then measured against the exact path both
-ways (:func:`camcore.toolpath.fit.measure`: the curve's largest distance from the chord and
+ways (:func:`camcore.toolpath.measure.measure`: the curve's largest distance from the chord and
 the chord's from the curve, refined between samples by golden section) and split again where
 it misses. Arcs are not used: a G2/G3 arc cannot take a rotary axis on most controls.
 

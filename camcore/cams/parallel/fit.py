@@ -1,7 +1,7 @@
 """A plate's contour, or the path of a cutter round it, as lines and arcs within a tolerance.
 
 The plate cam's fit (:mod:`camcore.toolpath.fit`: greedy biarcs, each measured both ways against
-the exact curve) is run on each piece of the plate's exact contour (:mod:`.trace`), offset by the
+the exact curve by :mod:`camcore.toolpath.measure`) is run on each piece of the plate's exact contour (:mod:`.trace`), offset by the
 tool radius Rt towards the piece's roller: a point of the piece is the roller's centre P plus
 s·Rr·N (:mod:`.envelope`), so the cutter's centre is P + s·(Rr − Rt)·N, the envelope of circles
 of radius Rr − Rt about the same centres, exact in closed form as the piece is. Every corner of
@@ -47,7 +47,7 @@ class PieceCurve(OffsetCurve):
     """One piece of a plate's contour offset by ``offset_mm`` towards its roller (Rr: the contour
     itself; Rr − Rt: a cutter's centre), in θ = side·τ, which grows along the walk.
 
-    :mod:`camcore.toolpath.fit` reads a curve through :meth:`sample` (``points`` and ``travel``
+    :mod:`camcore.toolpath.fit` and :mod:`camcore.toolpath.measure` read a curve through :meth:`sample` (``points`` and ``travel``
     come from it); this gives it the piece, exact from the roller's pitch curve.
     """
 

@@ -24,7 +24,8 @@ from camcore.errors import GeometryError, InvalidParameterError, LimitExceededEr
 from camcore.export import TOOLPATH_FORMATS, ToolpathFile, toolpath_dxf, toolpath_gcode
 from camcore.profile import Follower, Segment, compute_profile, make_cam
 from camcore.toolpath import OffsetCurve, compute_toolpath
-from camcore.toolpath.fit import Budget, Span, _farthest_fit, _greedy, measure
+from camcore.toolpath.fit import Budget, _farthest_fit, _greedy
+from camcore.toolpath.measure import Span, measure
 from camcore.toolpath.geometry import Element, biarc
 from tests.toolpath_reference import cutting_polylines, densify, distances_to_polyline, max_sagitta, parse_gcode
 
