@@ -35,6 +35,7 @@ import hashlib
 import json
 import lzma
 import math
+import os
 import re
 import sys
 from pathlib import Path
@@ -279,11 +280,11 @@ async def record(how: str) -> None:
             theirs[k]["answer"] = {key: got[key] for key in ("status", "media_type", "disposition")} | \
                 {"near": got["sha256"]}
         _write(other, theirs)
-        print(f"{len(changed)} answers changed: recorded in {mine.relative_to(ROOT)}, near in "
-              f"{other.relative_to(ROOT)}")
+        print(f"{len(changed)} answers changed: recorded in {os.path.relpath(mine, ROOT)}, near in "
+              f"{os.path.relpath(other, ROOT)}")
     _write(mine, entries)
     drop_unused_near()
-    print(f"{len(entries)} answers recorded in {mine.relative_to(ROOT)}")
+    print(f"{len(entries)} answers recorded in {os.path.relpath(mine, ROOT)}")
 
 
 if __name__ == "__main__":

@@ -12,6 +12,7 @@ purpose and recorded on the other kind of CPU) is held to that CPU's answer numb
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import httpx
 import pytest
@@ -87,3 +88,41 @@ def test_every_kept_answer_is_named_by_a_near_entry_and_every_near_entry_has_one
 ])
 def test_near_enough_compares_numbers_within_ulps_and_text_exactly(got: bytes, kept: bytes, same: bool) -> None:
     assert near_enough(got, kept) is same
+
+
+async def test_changed_answers_are_recorded_here_and_kept_near_in_the_other_record(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # `python -m tests.answer_replay --changed` on two recorded requests, one recorded with a wrong hash
+    # (an answer that changed): this CPU's record gets the new hash, the other kind's record keeps its
+    # unchanged entry as it was and marks the changed one near, with this CPU's answer kept beside it;
+    # once the other kind records it exactly, the kept answer is dropped
+    import lzma
+
+    import tests.answer_replay as replay
+
+    asked = [{"method": "GET", "path": f"/v1/curves/MS/table?samples={n}", "body": None, "headers": {}} for n in (5, 6)]
+    async with httpx.AsyncClient(transport=httpx.ASGITransport(app=create_app()), base_url="http://testserver") as c:
+        answers = [await answer_and_content(c, request) for request in asked]
+    mine, theirs = tmp_path / "mine.json", tmp_path / "theirs.json"
+    stale = {**answers[1][0], "sha256": "0" * 64}
+    mine.write_text(json.dumps([{**asked[0], "answer": answers[0][0]}, {**asked[1], "answer": stale}]))
+    other_answers = [{**a, "sha256": "1" * 64} for a, _ in answers]
+    theirs.write_text(json.dumps([{**r, "answer": a} for r, a in zip(asked, other_answers)]))
+    with_avx512 = cpu_kind() == "avx512"
+    monkeypatch.setattr(replay, "RECORD", mine if with_avx512 else theirs)
+    monkeypatch.setattr(replay, "RECORD_WITHOUT_AVX512", theirs if with_avx512 else mine)
+    monkeypatch.setattr(replay, "NEAR", tmp_path / "near")
+
+    await replay.record("changed")
+
+    assert [e["answer"] for e in json.loads(mine.read_text())] == [a for a, _ in answers]
+    kept_first, near = (e["answer"] for e in json.loads(theirs.read_text()))
+    assert kept_first == other_answers[0]
+    assert near == {"status": 200, "media_type": answers[1][0]["media_type"], "disposition": "",
+                    "near": answers[1][0]["sha256"]}
+    stored = tmp_path / "near" / f"{answers[1][0]['sha256']}.xz"
+    assert lzma.decompress(stored.read_bytes()) == answers[1][1]
+    assert matches(near, answers[1][0], answers[1][1])
+    theirs.write_text(json.dumps([{**r, "answer": a} for r, a in zip(asked, other_answers)]))  # recorded there
+    replay.drop_unused_near()
+    assert not stored.exists()
