@@ -25,7 +25,6 @@ References
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Generator
 from dataclasses import dataclass
 from typing import Any
@@ -135,7 +134,7 @@ def _lockstep(curve: OffsetCurve, walks: list[Walk]) -> list[Any]:
         keys = list(asked)
         shapes = [asked[k].shape for k in keys]
         sample = curve.sample(np.concatenate([asked[k].reshape(-1) for k in keys]))
-        cuts = np.cumsum([math.prod(shape) for shape in shapes])[:-1]
+        cuts = np.cumsum([asked[k].size for k in keys])[:-1]
         parts = [np.split(column, cuts) for column in sample]
         asked = {}
         for i, k in enumerate(keys):
