@@ -28,8 +28,10 @@ from service.openapi_layout import DESCRIPTION, TAGS, arrange
 from service.operations.cells import register_cell_route
 from service.operations.factory import register_routes
 from service.registry import OPERATIONS
+from service.routing import adapter_builds
 from service.security import install_security
 from service.settings import Settings
+from service.specs import build_models, deferred_models
 
 #: the OpenAPI documents made in this process, by the routes, title, version and description they come from
 _DOCUMENTS: dict[tuple[Any, ...], bytes] = {}
@@ -55,7 +57,10 @@ class CamcoreAPI(FastAPI):
             documented = tuple(id(route) for route in self.router.routes if getattr(route, "include_in_schema", False))
             key = (documented, self.title, self.version, self.description)
             if key not in _DOCUMENTS:
-                document = super().openapi()
+                with adapter_builds():  # the models first, then the routes' adapters of them (service.routing)
+                    for model in deferred_models():
+                        build_models(model)
+                    document = super().openapi()
                 restore_examples(document, [self.router])
                 arrange(document, self.route_kinds)
                 _DOCUMENTS[key] = orjson.dumps(document)

@@ -13,9 +13,10 @@ import io
 import threading
 from typing import TYPE_CHECKING, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import ConfigDict, Field
 
 from camcore.work import RENDER_S, WorkEstimate, WorkTerm, chart_s
+from service.specs import DeferredModel
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -29,7 +30,7 @@ COLORS = {"s": "#1f77b4", "v": "#2ca02c", "a": "#d62728", "j": "#9467bd", "q": "
 MAX_PLOT_SAMPLES = 2001
 
 
-class ChartQuery(BaseModel):
+class ChartQuery(DeferredModel):
     """What every chart's query has: the PNG resolution (the format is ``?format=``)."""
 
     model_config = ConfigDict(extra="ignore")

@@ -4,14 +4,13 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import BaseModel
-
 import camcore
 from service.context import Context
 from service.operations import Format, Operation, Raw
+from service.specs import DeferredModel
 
 
-class HealthAnswer(BaseModel):
+class HealthAnswer(DeferredModel):
     status: Literal["ok"]
     version: str
     caches: dict[str, dict[str, int]]

@@ -18,6 +18,7 @@ from typing import Any
 from pydantic import BaseModel, Field, create_model
 
 from camcore.results import answer_fields
+from service.specs import DeferredModel
 
 
 def answer_model(result_class: type, name: str, doc: str | None = None) -> type[BaseModel]:
@@ -36,7 +37,7 @@ def answer_model(result_class: type, name: str, doc: str | None = None) -> type[
     for field_name, hint, description, required in answer_fields(result_class):
         hint = _nested(hint, name)
         fields[field_name] = (hint, Field(description=description) if required else Field(None, description=description))
-    model = create_model(name, __doc__=doc or result_class.__doc__, **fields)
+    model = create_model(name, __base__=DeferredModel, __doc__=doc or result_class.__doc__, **fields)
     model.__module__ = __name__
     return model
 

@@ -21,6 +21,13 @@ FastAPI asks of every parameter and every encoded value whether it is a pydantic
 refuse one), importing ``pydantic.v1`` to ask: 67 ms of a cold start on the slower VM, for a
 question whose answer is no while nothing has imported ``pydantic.v1`` (no class can derive from
 its BaseModel before). :func:`_ask_pydantic_v1_only_once_imported` makes FastAPI ask only then.
+
+The service's models defer their build to first use (:class:`service.specs.DeferredModel`), and so
+do FastAPI's adapters of a route's parameters made from them. FastAPI builds its adapters with
+pydantic's warning about the parameter's alias ignored (the alias is FastAPI's, in the Field it
+wraps the type with); a deferred adapter is built later, by the first validation, outside that
+filter. So a route builds its parameters' adapters itself before its first request, and the OpenAPI
+document is made, under the same filter (:func:`adapter_builds`).
 """
 
 from __future__ import annotations
@@ -29,8 +36,10 @@ import asyncio
 import functools
 import json
 import sys
+import warnings
 import weakref
-from collections.abc import Callable, Coroutine
+from collections.abc import Callable, Coroutine, Iterator, Sequence
+from contextlib import contextmanager
 from typing import Any
 
 import anyio
@@ -40,9 +49,11 @@ from fastapi.exceptions import RequestValidationError
 from fastapi.routing import APIRoute
 from fastapi.utils import create_model_field
 from pydantic import TypeAdapter, ValidationError
+from pydantic.warnings import UnsupportedFieldAttributeWarning
 from starlette.requests import ClientDisconnect
 
 from service.replies import keep, request_key
+from service.specs import build_models
 
 #: bodies larger than this are parsed and validated in a worker thread [bytes]
 LARGE_BODY_BYTES = 256 * 1024
@@ -155,8 +166,29 @@ class OrjsonRequest(Request):
 @functools.cache
 def _body_adapter(annotation: Any) -> TypeAdapter[Any]:
     """The validator of a whole body, made when a large one first comes (most never do), one
-    per body type: a route and its aliases share it."""
-    return TypeAdapter(annotation)
+    per body type: a route and its aliases share it. Its model is built here, on the event loop (it
+    defers its build; the worker threads would otherwise race to build it), and the adapter takes it."""
+    build_models(annotation)
+    adapter = TypeAdapter(annotation)
+    return adapter
+
+
+@contextmanager
+def adapter_builds() -> Iterator[None]:
+    """While FastAPI's adapters of the routes' parameters are built: pydantic's warning that a
+    parameter's alias has no effect in an adapter ignored, as FastAPI ignores it when it builds them."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UnsupportedFieldAttributeWarning)
+        yield
+
+
+def _build_adapters(fields: Sequence[Any]) -> None:
+    """Build the adapters of a route's parameters that pydantic deferred (a no-op for a built one),
+    after the models they take."""
+    with adapter_builds():
+        for field in fields:
+            build_models(field.field_info.annotation)
+            field._type_adapter.rebuild()
 
 
 @functools.cache
@@ -191,8 +223,14 @@ class OrjsonRoute(APIRoute):
         # one body parameter, not embedded: FastAPI validates the whole body as its type
         whole = len(params) == 1 and not getattr(params[0].field_info, "embed", False)
         annotation = params[0].field_info.annotation if whole else None
+        dependant = self.dependant
+        unbuilt = [*dependant.path_params, *dependant.query_params, *dependant.header_params,
+                   *dependant.cookie_params, *([self.body_field] if self.body_field is not None else [])]
 
         async def orjson_route_handler(request: Request) -> Response:
+            if unbuilt:  # the route's first request
+                _build_adapters(unbuilt)
+                unbuilt.clear()
             orjson_request = OrjsonRequest(request.scope, request.receive)
             try:
                 key = request_key(orjson_request, await orjson_request.body())

@@ -13,7 +13,7 @@ from __future__ import annotations
 import json
 import sys
 from collections.abc import Mapping, Sequence
-from typing import Annotated, Any, Literal, Self
+from typing import Annotated, Any, Literal, Self, get_args
 
 import numpy as np
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, GetJsonSchemaHandler, PrivateAttr, field_validator
@@ -77,7 +77,40 @@ def _number(value: object) -> object:
 QueryNumbers = Annotated[list[Annotated[Finite, BeforeValidator(_number)]], BeforeValidator(_split_commas)]
 
 
-class DefaultsInDescriptions(BaseModel):
+class DeferredModel(BaseModel):
+    """The service's base model: its validator, serializer and schema are built when first used,
+    not when the module is imported (FastAPI's adapter of a route's body or answer model defers
+    with it), so a worker starts without building the ~150 models of operations it may never serve."""
+
+    model_config = ConfigDict(defer_build=True)
+
+
+def build_models(annotation: Any) -> None:
+    """Build the deferred models a type names (a model, or a union, list or Annotated of models),
+    the models of their fields first: a model built after them takes their schemas as built, where
+    it would make a field model's schema again inside every model that holds one (a curve spec is
+    in dozens)."""
+    for arg in get_args(annotation):
+        build_models(arg)
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel) and not annotation.__pydantic_complete__:
+        for field in annotation.model_fields.values():
+            build_models(field.annotation)
+        annotation.model_rebuild()
+
+
+def deferred_models() -> list[type[DeferredModel]]:
+    """Every model made so far on :class:`DeferredModel` (built or not)."""
+    found: list[type[DeferredModel]] = []
+    stack = [DeferredModel]
+    while stack:
+        for sub in stack.pop().__subclasses__():
+            if sub not in found:
+                found.append(sub)
+                stack.append(sub)
+    return found
+
+
+class DefaultsInDescriptions(DeferredModel):
     """In the OpenAPI document a field's default is stated in its description, not as ``default``.
 
     openapi-typescript (v7, default options) types a property that has a ``default`` as always

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 from fastapi.openapi.models import Example
-from pydantic import BaseModel, Field, model_validator
+from pydantic import Field, model_validator
 
 from camcore.cams.barrel import BarrelChecks, check_barrel_geometry
 from camcore.cams.barrel.geometry import MAX_ARM_ANGLE_DEG
@@ -17,6 +17,7 @@ from service.specs import (
     BIG,
     JSON_INTEGER,
     DefaultsInDescriptions,
+    DeferredModel,
     FieldRuleError,
     Spec,
     absent,
@@ -193,7 +194,7 @@ BARREL_SOLID_EXAMPLES: dict[str, Example] = {
 BarrelChecksAnswer = answer_model(BarrelChecks, "BarrelChecksAnswer")
 
 
-class BarrelFlankAnswer(BaseModel):
+class BarrelFlankAnswer(DeferredModel):
     """One groove wall in the cam's frame (camcore.cams.barrel.BarrelFlank): x_mm, y_mm, z_mm have one row
     per cam angle and one column per roller_position_mm (the contact line across the roller's length)."""
 
@@ -205,7 +206,7 @@ class BarrelFlankAnswer(BaseModel):
                     "negative concave; null where straight")
 
 
-class BarrelFlanks(BaseModel):
+class BarrelFlanks(DeferredModel):
     upper: BarrelFlankAnswer = Field(description="the groove's wall on the +z side of the roller")
     lower: BarrelFlankAnswer = Field(description="the groove's wall on the −z side of the roller")
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 from typing import Annotated, Any, Literal
 
 from fastapi.openapi.models import Example
-from pydantic import BaseModel, Field, model_validator
+from pydantic import Field, model_validator
 
 from camcore.cams.barrel.toolpath import BarrelToolpath, check_cutter, compute_barrel_toolpath
 from camcore.errors import CamError
@@ -21,7 +21,7 @@ from service.cams.barrel_specs import BARREL_EXAMPLE, BarrelCamRequest
 from service.context import Context
 from service.errors import within
 from service.operations import JSON, Format, Operation, Payload, Raw, download
-from service.specs import BIG, DefaultsInDescriptions, FieldRuleError, Spec, examples
+from service.specs import BIG, DefaultsInDescriptions, DeferredModel, FieldRuleError, Spec, examples
 
 #: the safe Z's default height above the cam's outer radius [mm]
 SAFE_CLEARANCE_MM = 5.0
@@ -93,7 +93,7 @@ BARREL_TOOLPATH_EXAMPLES: dict[str, Example] = {
 }
 
 
-class RotaryPassAnswer(BaseModel):
+class RotaryPassAnswer(DeferredModel):
     """One pass of the cutter, its nodes in the order it runs them."""
 
     wall: Literal["groove", "lower", "upper"] = Field(

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Annotated
 
 from fastapi.openapi.models import Example
-from pydantic import BaseModel, Field, model_validator
+from pydantic import Field, model_validator
 
 from camcore.cams.roller_gear import RibChecks, check_roller_gear_geometry
 from camcore.cams.roller_gear.body import check_solid_body
@@ -13,7 +13,7 @@ from camcore.cams.roller_gear.geometry import MIN_STOPS
 from service.curves.specs import MS_SPEC, CurveSpec, NamedCurveSpec
 from service.models import answer_model
 from service.profiles.specs import PositiveLength
-from service.specs import BIG, JSON_INTEGER, DefaultsInDescriptions, Spec, examples
+from service.specs import BIG, JSON_INTEGER, DefaultsInDescriptions, DeferredModel, Spec, examples
 
 #: sampled cam angles over the rib's turn, at most
 MAX_ROLLER_GEAR_SAMPLES = 3601
@@ -121,7 +121,7 @@ ROLLER_GEAR_EXAMPLES: dict[str, Example] = {
 RibChecksAnswer = answer_model(RibChecks, "RibChecksAnswer")
 
 
-class RibFlankAnswer(BaseModel):
+class RibFlankAnswer(DeferredModel):
     """One flank of the rib in the cam's frame (camcore.cams.roller_gear.RibFlank): x_mm, y_mm, z_mm and
     pressure_angle_deg have one row per cam angle and one column per roller_position_mm."""
 
@@ -132,7 +132,7 @@ class RibFlankAnswer(BaseModel):
     regular: list[list[bool]] = Field(description="false where the flank folds (undercut)")
 
 
-class RibFlanks(BaseModel):
+class RibFlanks(DeferredModel):
     forward: RibFlankAnswer = Field(description="faces the roller ahead of the rib: pushes the turret on")
     back: RibFlankAnswer = Field(description="faces the roller behind the rib: holds the turret back")
 

@@ -16,7 +16,7 @@ from typing import Annotated, Any, Literal
 import numpy as np
 from fastapi import Path
 from fastapi.exceptions import RequestValidationError
-from pydantic import BaseModel, Field
+from pydantic import Field
 
 import camcore
 from camcore.curves import Law
@@ -45,7 +45,7 @@ from service.drawing import MAX_PLOT_SAMPLES, ChartQuery, chart_work
 from service.errors import Location, relocate, within
 from service.operations import JSON, PNG, SVG, TEXT, Format, Operation, Payload, Raw, Table, Text, csv
 from service.responses import encode_table, encode_value
-from service.specs import Direction, QueryNumbers
+from service.specs import DeferredModel, Direction, QueryNumbers
 
 #: rows of a table worth a thread-pool hop: below this, on a curve already built, the work
 #: (0.07 ms for 101 rows of MS, ~1 ms for 1001 rows of a degree-20 Bezier) costs less than
@@ -160,7 +160,7 @@ def _table(ctx: Context, job: Sampling, fmt: Format) -> Table | Payload:
     return Payload(ctx.curves.tables.get_or_create(key, lambda: encode_table(table_columns(ctx, job), csv_answer)))
 
 
-class NamedTableQuery(BaseModel):
+class NamedTableQuery(DeferredModel):
     samples: int = Field(101, ge=2)
     direction: Direction = "rise"
 
@@ -240,7 +240,7 @@ def _quick_inverse(ctx: Context, job: Inversion, fmt: Format) -> bool:
     return is_quick_inverse(ctx, job.law, len(job.s), job.method)
 
 
-class NamedInverseQuery(BaseModel):
+class NamedInverseQuery(DeferredModel):
     s: QueryNumbers = Field(min_length=1, description="S values: repeat ?s= or separate by commas")
     method: Literal["exact", "table"] = "exact"
     table_step: float = Field(0.01, ge=1e-4, le=0.5)
@@ -254,7 +254,7 @@ def _named_inverse(ctx: Context, query: NamedInverseQuery, path: Mapping[str, st
 
 
 # ----------------------------------------------------------------------------- one value
-class ValueQuery(BaseModel):
+class ValueQuery(DeferredModel):
     t: float | None = Field(None, allow_inf_nan=False, description="time T; answers quantity at T")
     s: float | None = Field(None, allow_inf_nan=False, description="displacement S; answers T of the exact inverse")
     quantity: Literal["t", "s", "v", "a", "j", "q"] | None = Field(

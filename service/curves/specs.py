@@ -7,7 +7,7 @@ from collections.abc import Mapping
 from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal, Union
 
 from fastapi.openapi.models import Example
-from pydantic import BaseModel, Field, GetJsonSchemaHandler, PrivateAttr, create_model, model_validator
+from pydantic import Field, GetJsonSchemaHandler, PrivateAttr, create_model, model_validator
 from pydantic.json_schema import JsonSchemaValue
 from pydantic_core import CoreSchema
 
@@ -18,7 +18,20 @@ from camcore.curves.polynomial import check_choice
 from camcore.curves.targets import TARGETS, curve_4_vm_range, solve_targets
 from camcore.curves.universal import check_break_points
 from service.models import answer_model
-from service.specs import BIG, JSON_INTEGER, Direction, Finite, Spec, absent, all_of, examples, given, not_both, rule
+from service.specs import (
+    BIG,
+    JSON_INTEGER,
+    DeferredModel,
+    Direction,
+    Finite,
+    Spec,
+    absent,
+    all_of,
+    examples,
+    given,
+    not_both,
+    rule,
+)
 
 #: the guide's worked examples (INDEXMAN technical guide): the MS curve, Makino's universal
 #: curve with MS's break points (Makino 1977, No. 26)
@@ -281,7 +294,8 @@ def kind_spec(kind: CurveKind) -> type[CurveKindSpec]:
                               "direction": (Direction, "rise")}
     model = create_model(f"{camel}CurveSpec", __base__=CurveKindSpec, __doc__=kind.description, **fields)
     model.model_config.update(examples({"type": kind.name, **kind.example}))
-    model.model_rebuild(force=True)
+    if model.__pydantic_complete__:
+        model.model_rebuild(force=True)
     model.__module__ = __name__
     return model
 
@@ -365,7 +379,7 @@ INVERSE_EXAMPLES: dict[str, Example] = {
 
 
 # ----------------------------------------------------------------------------- curve answers
-class CurveTable(BaseModel):
+class CurveTable(DeferredModel):
     t: list[float]
     s: list[float]
     v: list[float]
@@ -374,7 +388,7 @@ class CurveTable(BaseModel):
     q: list[float]
 
 
-class InverseTable(BaseModel):
+class InverseTable(DeferredModel):
     s: list[float]
     t: list[float]
     v: list[float]
@@ -394,7 +408,7 @@ CurveCharacteristicsAnswer = create_model(
 CurveCharacteristicsAnswer.__module__ = __name__
 
 
-class CatalogEntryAnswer(BaseModel):
+class CatalogEntryAnswer(DeferredModel):
     id: str
     aliases: list[str]
     name: str
@@ -413,6 +427,6 @@ QM_CONVENTIONS: dict[str, str] = {
 }
 
 
-class CatalogAnswer(BaseModel):
+class CatalogAnswer(DeferredModel):
     curves: list[CatalogEntryAnswer]
     conventions: dict[str, str] = Field(description="which Qm is which (qm: A·V/Am; qm_raw: A·V)")

@@ -12,7 +12,7 @@ from collections.abc import Callable
 from typing import Any, TypeVar
 
 import numpy as np
-from pydantic import BaseModel, Field, ValidationError
+from pydantic import Field, ValidationError
 
 import camcore
 from camcore.errors import InvalidParameterError, NonMonotoneError
@@ -53,7 +53,7 @@ from service.indexers.specs import (
 from service.motions.operations import program_work, resolve
 from service.operations import JSON, PNG, SVG, Document, Format, Operation, Payload, Raw, Table, csv
 from service.responses import JSONBody, check_finite
-from service.specs import BIG
+from service.specs import BIG, DeferredModel
 
 T = TypeVar("T")
 
@@ -223,7 +223,7 @@ def _sizing(ctx: Context, body: SizingRequest, fmt: Format) -> Payload:
 
 
 # ----------------------------------------------------------------------------- accuracy
-class AccuracyQuery(BaseModel):
+class AccuracyQuery(DeferredModel):
     arc_seconds: float = Field(ge=0, le=1e6, allow_inf_nan=False)
     radius_mm: float = Field(ge=0, le=1e7, allow_inf_nan=False)
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 from fastapi.openapi.models import Example
-from pydantic import BaseModel, Field, PrivateAttr, model_validator
+from pydantic import Field, PrivateAttr, model_validator
 
 from camcore.indexer import (
     IndexerPosition,
@@ -24,6 +24,7 @@ from service.motions.specs import MotionSpec
 from service.specs import (
     BIG,
     JSON_INTEGER,
+    DeferredModel,
     Spec,
     absent,
     exactly_one,
@@ -302,7 +303,7 @@ MotionSummaryAnswer = answer_model(MotionSummary, "MotionSummaryAnswer")
 MotionTableAnswer = answer_model(MotionTable, "MotionTableAnswer")
 
 
-class MotionAnswer(BaseModel):
+class MotionAnswer(DeferredModel):
     summary: MotionSummaryAnswer  # type: ignore[valid-type]  # derived answer model (service.models)
     table: MotionTableAnswer  # type: ignore[valid-type]  # derived answer model (service.models)
 
@@ -313,7 +314,7 @@ PositionAnswer = answer_model(IndexerPosition, "PositionAnswer")
 SizingAnswer = answer_model(Sizing, "SizingAnswer")
 
 
-class AccuracyAnswer(BaseModel):
+class AccuracyAnswer(DeferredModel):
     arc_seconds: float
     radius_mm: float
     accuracy_mm: float

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Annotated, Any, Literal
 
 from fastapi.openapi.models import Example
-from pydantic import BaseModel, Field, model_validator
+from pydantic import Field, model_validator
 
 from camcore.machine import (
     AxisLimit,
@@ -22,6 +22,7 @@ from service.profiles.specs import ROLLER_PROFILE_EXAMPLE
 from service.specs import (
     BIG,
     JSON_INTEGER,
+    DeferredModel,
     FieldRuleError,
     Finite,
     Spec,
@@ -349,7 +350,7 @@ MACHINE_EXAMPLES: dict[str, Example] = {
 MachineSummaryAnswer = answer_model(MachineSummary, "MachineSummaryAnswer")
 
 
-class SpeedLimitsAnswer(BaseModel):
+class SpeedLimitsAnswer(DeferredModel):
     """How fast the machine can run: each axis's first failure speed and the smallest."""
 
     axes: list[answer_model(AxisLimit, "AxisLimitAnswer")]  # type: ignore[valid-type]
@@ -359,7 +360,7 @@ class SpeedLimitsAnswer(BaseModel):
     runs_within_limits: bool = Field(description="the machine's speed is at or below its top speed")
 
 
-class MachineAnswer(BaseModel):
+class MachineAnswer(DeferredModel):
     """The timing and torque tables over the master angle, the totals, each axis, the limits and the rules."""
 
     timing: dict[str, list[float]] = Field(description=(

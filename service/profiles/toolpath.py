@@ -10,7 +10,7 @@ import math
 from typing import Annotated, Any, Literal
 
 from fastapi.openapi.models import Example
-from pydantic import BaseModel, Field, model_validator
+from pydantic import Field, model_validator
 
 from camcore.export import TOOLPATH_FORMATS, ToolpathFile
 from camcore.toolpath import Toolpath, compute_toolpath
@@ -19,7 +19,16 @@ from service.context import Context
 from service.operations import JSON, Alias, Format, Operation, Payload, Raw, download
 from service.profiles.operations import cam, schedule_field, schedule_work, segment_count, strokes_mm
 from service.profiles.specs import ROLLER_PROFILE_EXAMPLE, ProfileSpec
-from service.specs import BIG, DefaultsInDescriptions, FieldRuleError, Spec, examples, one_of_values, rule
+from service.specs import (
+    BIG,
+    DefaultsInDescriptions,
+    DeferredModel,
+    FieldRuleError,
+    Spec,
+    examples,
+    one_of_values,
+    rule,
+)
 
 #: a roller follower (the condition of a groove)
 ROLLER = {"properties": {"follower": {"required": ["type"], "properties": {"type": {"const": "roller"}}}},
@@ -97,7 +106,7 @@ TOOLPATH_EXAMPLES: dict[str, Example] = {
 }
 
 
-class ElementAnswer(BaseModel):
+class ElementAnswer(DeferredModel):
     """One line or arc of a path, in the cam's frame."""
 
     type: Literal["line", "arc"]
@@ -112,7 +121,7 @@ class ElementAnswer(BaseModel):
                                                                "a line)")
 
 
-class CutterPathAnswer(BaseModel):
+class CutterPathAnswer(DeferredModel):
     """The closed cutter-centre path of one wall, starting at cam angle 0."""
 
     wall: Literal["surface", "outer-wall"] = Field(description="the cam surface, or a roller track's outer wall")
