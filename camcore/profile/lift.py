@@ -11,6 +11,7 @@ References
 from __future__ import annotations
 
 import math
+from bisect import bisect_right
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, Literal, Protocol
@@ -141,6 +142,7 @@ class LiftSchedule:
         self.initial = float(initial)
         self._pieces = pieces
         self._starts = np.array([p.start for p in pieces])
+        self._starts_list = [p.start for p in pieces]
         br: list[float] = []
         for p in pieces:
             br.append(p.start)
@@ -156,20 +158,11 @@ class LiftSchedule:
     def derivatives(self, theta: ArrayLike, order: int = 2) -> list[FloatArray]:
         th = np.asarray(theta, dtype=np.float64)
         flat = np.mod(th.reshape(-1), TWO_PI)
-        # the first piece starts at 0 and flat ≥ 0, so the index is one of the pieces (NaN: the last)
-        idx = np.searchsorted(self._starts, flat, side="right") - 1
         out = list(np.zeros((order + 1, flat.size)))
         # np.minimum/np.maximum, not np.clip: the same numbers without its Python wrappers (the solvers
         # ask for one to a few hundred angles at a time, hundreds of times per request)
-        first, last = (int(idx.min()), int(idx.max())) if flat.size else (0, -1)
-        for k in range(first, last + 1):
+        for k, sel in self._on_pieces(flat):
             p = self._pieces[k]
-            sel: slice | NDArray[np.bool_] = slice(None)  # every angle on this piece: no selection
-            if first != last:
-                on_piece = idx == k
-                if not on_piece.any():
-                    continue
-                sel = on_piece
             if p.curve is None:
                 out[0][sel] = p.level
                 continue
@@ -183,6 +176,38 @@ class LiftSchedule:
                 out[o][sel] = gain * rate**o * vals[o]
         return [o.reshape(th.shape) for o in out]
 
+    def _on_pieces(self, flat: FloatArray) -> list[tuple[int, slice | NDArray[np.intp] | NDArray[np.bool_]]]:
+        """Each piece some of the angles (in [0, 2π)) lie on, and which: every one (``slice(None)``),
+        a run of sorted angles (a slice), or an index or a mask, in the angles' order either way.
+
+        Piece k holds [start_k, start_k+1) (np.searchsorted(starts, θ, "right") − 1; the first piece
+        starts at 0, so every angle has one; NaN: the last). A few angles are placed by bisection and
+        sorted ones by slices: the same angles as the masks', without their arrays' fixed cost.
+        """
+        n = flat.size
+        if n <= _FEW_ANGLES:
+            ks = [bisect_right(self._starts_list, f) - 1 for f in flat.tolist()]
+            if not ks:
+                return []
+            if min(ks) == max(ks):
+                return [(ks[0], slice(None))]
+            return [(k, np.array([i for i, on in enumerate(ks) if on == k], dtype=np.intp)) for k in sorted(set(ks))]
+        if bool(np.all(flat[1:] >= flat[:-1])):  # a table's angles (no NaN)
+            bounds = [*np.searchsorted(flat, self._starts, side="left").tolist(), n]
+            runs = [(k, bounds[k], bounds[k + 1]) for k in range(len(self._pieces)) if bounds[k + 1] > bounds[k]]
+            if len(runs) == 1:
+                return [(runs[0][0], slice(None))]
+            return [(k, slice(lo, hi)) for k, lo, hi in runs]
+        idx = np.searchsorted(self._starts, flat, side="right") - 1
+        first, last = int(idx.min()), int(idx.max())
+        if first == last:
+            return [(first, slice(None))]
+        masks = ((k, idx == k) for k in range(first, last + 1))
+        return [(k, on_piece) for k, on_piece in masks if on_piece.any()]
+
+
+#: angles placed on their pieces by bisection in Python floats (fewer than numpy's fixed cost pays for)
+_FEW_ANGLES = 8
 
 MAX_PERIODS_PER_TURN = 1000  # lift periods on one cam turn; each one is a copy of the lift's breaks
 

@@ -369,6 +369,66 @@ def test_lift_derivatives_chain_rule():
         spec.lift.derivatives(math.radians(40.0), 0)[0], rel=1e-13)
 
 
+def _lift_by_masks(lift: LiftSchedule, theta: np.ndarray, order: int) -> list[np.ndarray]:
+    """A schedule's lift the plain way: every angle's piece by np.searchsorted, each piece's angles
+    by a mask (the method before a few angles were placed by bisection and sorted ones by slices)."""
+    flat = np.mod(theta.reshape(-1), 2 * math.pi)
+    idx = np.searchsorted(lift._starts, flat, side="right") - 1
+    out = list(np.zeros((order + 1, flat.size)))
+    for k, p in enumerate(lift._pieces):
+        sel = idx == k
+        if not sel.any():
+            continue
+        if p.curve is None:
+            out[0][sel] = p.level
+            continue
+        c = p.curve
+        rate = (c.t_end - c.t_start) / p.span
+        u = np.minimum(np.maximum((flat[sel] - p.start) / p.span, 0.0), 1.0)
+        vals = c.derivatives(c.t_start + (c.t_end - c.t_start) * u, order)
+        gain = p.amount / (p.s1 - p.s0)
+        out[0][sel] = p.level + gain * (vals[0] - p.s0)
+        for o in range(1, order + 1):
+            out[o][sel] = gain * rate**o * vals[o]
+    return [o.reshape(theta.shape) for o in out]
+
+
+def test_the_lift_of_a_few_or_sorted_angles_is_the_masks_lift_to_the_bit():
+    # LiftSchedule places up to 8 angles by bisection and sorted angles by slices; the curve gets the
+    # same T in the same order either way, so every number must be equal, not close (the recorded
+    # answers hold them to the bit). Angles: random, sorted, on the piece starts, past a turn,
+    # negative, -0.0, NaN, one and none
+    # the constant-velocity rise's V jumps at its start and end: an angle on a piece start placed on
+    # the piece before would differ there
+    jumps = LiftSchedule([Segment("rise", 100, 10.0, CV), Segment("dwell", 80), Segment("return", 100, 10.0, SH),
+                          Segment("dwell", 80)])
+    rng = np.random.default_rng(38)
+    cases: list[tuple[LiftSchedule, np.ndarray]] = []
+    for lift in (mixed_cam().lift, jumps):
+        starts = lift._starts
+        lift_cases = [np.zeros(0), np.array([1.0]), np.array([-0.0]), np.array([np.nan, 1.0]), starts.copy(),
+                      np.concatenate([starts, starts + 1e-15]), np.sort(rng.uniform(0, 2 * math.pi, 500)),
+                      np.sort(np.concatenate([starts, starts, rng.uniform(0, 2 * math.pi, 20)])),
+                      np.linspace(0.0, 2 * math.pi, 361), np.linspace(-7.0, 13.0, 50), np.array([2.0, 2.0, 2.0])]
+        for n in (2, 5, 8, 9, 30, 200):
+            for _ in range(20):
+                lift_cases.append(rng.uniform(-10.0, 20.0, n))
+                lift_cases.append(np.sort(rng.uniform(0.0, 2 * math.pi, n)))
+                lift_cases.append(rng.choice(np.concatenate([starts, rng.uniform(0, 7, 4)]), n))
+                lift_cases.append(np.sort(lift_cases[-1]))
+        cases += [(lift, theta) for theta in lift_cases]
+    for lift, theta in cases:
+        for order in (0, 2, 3):
+            got, want = lift.derivatives(theta, order), _lift_by_masks(lift, theta, order)
+            assert len(got) == order + 1
+            for g, w in zip(got, want):
+                assert g.shape == theta.shape
+                np.testing.assert_array_equal(np.ascontiguousarray(g).view(np.int64),
+                                              np.ascontiguousarray(w).view(np.int64))  # bits: -0.0 ≠ 0.0
+    # a matrix of angles keeps its shape
+    assert lift.derivatives(np.ones((2, 3)), 1)[1].shape == (2, 3)
+
+
 # ============================================================================ rotation ratio
 class PeriodicCurve(camcore.Curve):
     """A closed user lift: S = (1 − cos 2πT)/2 over T ∈ [0, 1], with a scale like a Bezier
