@@ -104,6 +104,10 @@ class ParallelCam:
         """
         curve, t_start, s_start, d_t, scales, theta_h, h = self._law
         theta = np.asarray(theta, dtype=np.float64)
+        if theta.size <= FEW_ANGLES:
+            few = self._turret_few(theta)
+            if few is not None:
+                return few
         turns = np.floor(theta * (0.5 / math.pi))
         within = theta - turns * (2 * math.pi)
         s, v, a = curve.derivatives((t_start + d_t * np.minimum(within / theta_h, 1.0)).reshape(-1), 2)
@@ -112,6 +116,26 @@ class ParallelCam:
         d1 = np.where(index, scales[1] * v, 0.0).reshape(theta.shape)
         d2 = np.where(index, scales[2] * a, 0.0).reshape(theta.shape)
         return phi, d1, d2
+
+    def _turret_few(self, theta: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray] | None:
+        """:meth:`turret` at a few finite angles in Python floats: the same operations, so the same
+        numbers to the bit, without numpy's fixed cost per call (None: an angle is not finite)."""
+        curve, t_start, s_start, d_t, scales, theta_h, h = self._law
+        angles = theta.reshape(-1).tolist()
+        if not all(math.isfinite(x) for x in angles):
+            return None
+        turns = [float(math.floor(x * (0.5 / math.pi))) for x in angles]
+        within = [x - k * (2 * math.pi) for x, k in zip(angles, turns)]
+        s, v, a = curve.derivatives(np.array([t_start + d_t * min(w / theta_h, 1.0) for w in within]), 2)
+        index = [w <= theta_h for w in within]
+        rows = zip(index, s.tolist(), v.tolist(), a.tolist(), turns)
+        phi, d1, d2 = [], [], []
+        for on, s_k, v_k, a_k, k in rows:
+            phi.append((scales[0] * (s_k - s_start) if on else h) + k * h)
+            d1.append(scales[1] * v_k if on else 0.0)
+            d2.append(scales[2] * a_k if on else 0.0)
+        shape = theta.shape
+        return np.array(phi).reshape(shape), np.array(d1).reshape(shape), np.array(d2).reshape(shape)
 
     def centres(self, alpha0: FloatArray | float, theta: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Roller centres in the cam's frame: α₀ broadcast against θ [mm]."""
@@ -148,6 +172,10 @@ class ParallelCam:
         return _TurretRoller(Follower(type="roller", motion="oscillating", roller_radius_mm=self.roller_radius_mm,
                                       arm_length_mm=self.roller_pitch_radius_mm,
                                       pivot_distance_mm=self.center_distance_mm), 0.0)
+
+
+#: cam angles :meth:`ParallelCam.turret` takes in Python floats (fewer than numpy's fixed cost pays for)
+FEW_ANGLES = 8
 
 
 class _TurretRoller(RollerOscillating):

@@ -225,6 +225,38 @@ def test_the_turret_and_the_centres_are_the_models(curve: str) -> None:
     assert np.abs((ahead[3] - behind[3]) / (2 * h) - q2y).max() <= 1e-5 * np.abs(q2y).max()
 
 
+@pytest.mark.parametrize("curve", ["MS", "cycloid", "constant-velocity"])
+def test_a_few_turret_angles_are_the_arrays_numbers_to_the_bit(curve: str) -> None:
+    """ParallelCam.turret takes up to 8 angles in Python floats: every number equals the one its
+    array formulas (written out here) give, bit for bit, at random angles over several turns, at
+    whole turns, on the index's end and just either side, and a non-finite angle is the arrays'."""
+    cam = make_parallel_cam(6, 100.0, 60.0, 8.0, 120.0, curve, plates=3)
+    law, t_start, s_start, d_t, scales, theta_h, h = cam._law
+
+    def by_arrays(theta: np.ndarray) -> list[np.ndarray]:
+        turns = np.floor(theta * (0.5 / math.pi))
+        within = theta - turns * (2 * math.pi)
+        s, v, a = law.derivatives((t_start + d_t * np.minimum(within / theta_h, 1.0)).reshape(-1), 2)
+        index = (within <= theta_h).reshape(-1)
+        return [(np.where(index, scales[0] * (s - s_start), h).reshape(theta.shape) + turns * h),
+                np.where(index, scales[1] * v, 0.0).reshape(theta.shape),
+                np.where(index, scales[2] * a, 0.0).reshape(theta.shape)]
+
+    rng = np.random.default_rng(38)
+    edges = [0.0, -0.0, 2 * math.pi, -2 * math.pi, theta_h, np.nextafter(theta_h, 0.0), np.nextafter(theta_h, 9.0),
+             4 * math.pi + theta_h, 1e-300]
+    cases = [np.array(edges[:8]), np.array(edges[8:]), np.array([[0.5, 1.0], [2.0, -3.0]]), np.array(1.25),
+             np.array([np.nan, 1.0]), np.array([np.inf])]
+    cases += [rng.uniform(-20.0, 30.0, n) for n in (1, 2, 5, 8) for _ in range(50)]
+    for theta in cases:
+        with np.errstate(invalid="ignore"):  # the non-finite cases: inf − inf in the arrays' within
+            got, want = cam.turret(theta), by_arrays(theta)
+        for g, w in zip(got, want, strict=True):
+            assert g.shape == theta.shape
+            np.testing.assert_array_equal(np.ascontiguousarray(g).view(np.int64),
+                                          np.ascontiguousarray(w).view(np.int64))  # bits: -0.0 ≠ 0.0
+
+
 def test_a_foot_search_gives_up_only_where_the_point_is_off_the_envelope(monkeypatch: pytest.MonkeyPatch) -> None:
     # points at known gaps g off an envelope, along its normal at cam angle u (their foot): within 2ε
     # (2e-5 mm at C = 100 mm) the foot is found, beyond it NaN, as the search run all its steps says; the
