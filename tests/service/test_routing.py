@@ -200,6 +200,40 @@ def test_a_cold_app_builds_a_model_when_a_request_first_needs_it() -> None:
     assert numpy_ma is False
 
 
+def test_threads_first_using_a_model_at_once_all_get_it_built() -> None:
+    # a model first used off the event loop (a spec made in a computation's thread) may be built by
+    # several threads at once: pydantic leaves its mocks until a build is complete. A fresh
+    # interpreter, every warning an error: six threads validate each of the ~150 unbuilt models together
+    program = (
+        "import sys, threading, warnings\n"
+        "warnings.simplefilter('error')\n"
+        "import service.app\n"
+        "from pydantic import ValidationError\n"
+        "from service import specs\n"
+        "models = [m for m in specs.deferred_models() if not m.__pydantic_complete__]\n"
+        "errors = []\n"
+        "def validate(model, barrier):\n"
+        "    barrier.wait()\n"
+        "    try:\n"
+        "        model.model_validate({})\n"
+        "    except ValidationError:\n"
+        "        pass\n"
+        "    except Exception as exc:\n"
+        "        errors.append(f'{model.__name__}: {exc!r}')\n"
+        "for model in models:\n"
+        "    barrier = threading.Barrier(6)\n"
+        "    threads = [threading.Thread(target=validate, args=(model, barrier)) for _ in range(6)]\n"
+        "    for t in threads:\n"
+        "        t.start()\n"
+        "    for t in threads:\n"
+        "        t.join()\n"
+        "print(len(models), sum(not m.__pydantic_complete__ for m in models), errors)\n")
+    done = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True, check=True,
+                          cwd=Path(__file__).resolve().parents[2], timeout=120)
+    count, unbuilt, errors = done.stdout.split(maxsplit=2)
+    assert int(count) > 100 and int(unbuilt) == 0 and errors.strip() == "[]", done.stdout + done.stderr
+
+
 def test_the_pydantic_v1_checks_still_refuse_a_v1_model_once_it_is_imported() -> None:
     import warnings
 
