@@ -135,6 +135,12 @@ def test_error_answers_are_documented_by_one_field_per_status_code() -> None:
                     "$ref": "#/components/schemas/ErrorAnswer"}, (r.path, code)
 
 
+def run_fresh(program: str) -> subprocess.CompletedProcess[str]:
+    """A program run by a fresh interpreter in the checkout (what a cold worker has built and imported)."""
+    return subprocess.run([sys.executable, "-c", program], capture_output=True, text=True, check=True,
+                          cwd=Path(__file__).resolve().parents[2], timeout=120)
+
+
 def test_a_cold_app_answers_without_importing_pydantic_v1() -> None:
     # FastAPI asks of each parameter and each encoded value whether it is a pydantic v1 model, and
     # imported pydantic.v1 to ask (67 ms of a cold start); the routes make it ask only once something
@@ -150,8 +156,7 @@ def test_a_cold_app_answers_without_importing_pydantic_v1() -> None:
         "        missing = await c.get('/v1/nothing')\n"
         "    print(ok.status_code, bad.status_code, missing.status_code, 'pydantic.v1' in sys.modules)\n"
         "asyncio.run(main())\n")
-    done = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True, check=True,
-                          cwd=Path(__file__).resolve().parents[2], timeout=120)
+    done = run_fresh(program)
     assert done.stdout.split() == ["200", "422", "404", "False"], done.stderr
 
 
@@ -190,8 +195,7 @@ def test_a_cold_app_builds_a_model_when_a_request_first_needs_it() -> None:
         "    print(json.dumps([len(models), built, [a.status_code for a in answers], refused,\n"
         "                      'TableRequest' in answers[-1].json()['components']['schemas'], numpy_ma]))\n"
         "asyncio.run(main())\n")
-    done = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True, check=True,
-                          cwd=Path(__file__).resolve().parents[2], timeout=120)
+    done = run_fresh(program)
     count, built, codes, refused, documented, numpy_ma = json.loads(done.stdout)
     assert count > 100 and built == [], done.stderr
     assert codes == [200, 422, 200, 422, 200, 422, 200] and documented
@@ -228,8 +232,7 @@ def test_threads_first_using_a_model_at_once_all_get_it_built() -> None:
         "    for t in threads:\n"
         "        t.join()\n"
         "print(len(models), sum(not m.__pydantic_complete__ for m in models), errors)\n")
-    done = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True, check=True,
-                          cwd=Path(__file__).resolve().parents[2], timeout=120)
+    done = run_fresh(program)
     count, unbuilt, errors = done.stdout.split(maxsplit=2)
     assert int(count) > 100 and int(unbuilt) == 0 and errors.strip() == "[]", done.stdout + done.stderr
 
