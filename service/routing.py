@@ -169,8 +169,7 @@ def _body_adapter(annotation: Any) -> TypeAdapter[Any]:
     per body type: a route and its aliases share it. Its model is built here, on the event loop (it
     defers its build; the worker threads would otherwise race to build it), and the adapter takes it."""
     build_models(annotation)
-    adapter = TypeAdapter(annotation)
-    return adapter
+    return TypeAdapter(annotation)
 
 
 @contextmanager

@@ -85,16 +85,17 @@ class DeferredModel(BaseModel):
     model_config = ConfigDict(defer_build=True)
 
 
-def build_models(annotation: Any) -> None:
+def build_models(annotation: Any, _visiting: frozenset[type] = frozenset()) -> None:
     """Build the deferred models a type names (a model, or a union, list or Annotated of models),
     the models of their fields first: a model built after them takes their schemas as built, where
     it would make a field model's schema again inside every model that holds one (a curve spec is
-    in dozens)."""
+    in dozens). A model that holds itself is built with the others inside it."""
     for arg in get_args(annotation):
-        build_models(arg)
-    if isinstance(annotation, type) and issubclass(annotation, BaseModel) and not annotation.__pydantic_complete__:
+        build_models(arg, _visiting)
+    if (isinstance(annotation, type) and issubclass(annotation, BaseModel) and annotation not in _visiting
+            and not annotation.__pydantic_complete__):
         for field in annotation.model_fields.values():
-            build_models(field.annotation)
+            build_models(field.annotation, _visiting | {annotation})
         annotation.model_rebuild()
 
 

@@ -204,6 +204,42 @@ def test_a_cold_app_builds_a_model_when_a_request_first_needs_it() -> None:
     assert numpy_ma is False
 
 
+def test_deferred_models_are_built_after_their_field_models_and_a_model_holding_itself_is_built() -> None:
+    # service.specs.build_models: the field models first (built once, then taken as built by every
+    # model holding one), a recursive model without recursing for ever. Models made here, unbuilt
+    from pydantic import BaseModel
+
+    from service.specs import DeferredModel, build_models
+
+    order: list[str] = []
+
+    class Recording(DeferredModel):
+        @classmethod
+        def model_rebuild(cls, **kwargs: object) -> bool | None:
+            order.append(cls.__name__)
+            return super().model_rebuild(**kwargs)  # type: ignore[arg-type]
+
+    class Leaf(Recording):
+        value: float
+
+    class Branch(Recording):
+        leaves: list[Leaf]
+        first: Leaf | None = None
+
+    class Tree(Recording):
+        branches: dict[str, Branch]
+        subtrees: list[Tree] | None = None
+
+    assert not (Leaf.__pydantic_complete__ or Branch.__pydantic_complete__ or Tree.__pydantic_complete__)
+    build_models(list[Tree])
+    assert order == ["Leaf", "Branch", "Tree"]
+    assert all(m.__pydantic_complete__ for m in (Leaf, Branch, Tree))
+    tree = Tree.model_validate({"branches": {"a": {"leaves": [{"value": 1}]}}, "subtrees": [{"branches": {}}]})
+    assert tree.subtrees is not None and tree.subtrees[0].branches == {} and tree.branches["a"].leaves[0].value == 1.0
+    build_models(Tree)  # built: nothing again
+    assert order == ["Leaf", "Branch", "Tree"] and issubclass(Tree, BaseModel)
+
+
 def test_threads_first_using_a_model_at_once_all_get_it_built() -> None:
     # a model first used off the event loop (a spec made in a computation's thread) may be built by
     # several threads at once: pydantic leaves its mocks until a build is complete. A fresh
