@@ -31,7 +31,7 @@ lint: $(VENV)/.installed
 	$(VENV)/bin/mypy camcore service
 
 # the tests that time or weigh the machine (bench ratios, load with wrk, the memory soak, the image's
-# pod, a computation's CPU time against its estimate) run alone; everything else first on both cores.
+# pod, a computation against its estimate or deadline) run alone; everything else first on both cores.
 # Both parts run; either failing fails the target.
 ALONE_TESTS := bench or wrk or soak or image or timing
 
