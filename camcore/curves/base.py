@@ -45,10 +45,11 @@ _SLICED_MIN_POINTS_PER_PIECE = 512
 _BLOCK = 16384
 WORK_ROWS = 5
 
-#: at most this many T are evaluated one by one in Python floats where the curve has scalar formulas
-#: (:meth:`PiecewiseCurve.eval_point`): a call on arrays costs ~30 µs whatever its size, one point ~3 µs
-#: (a tracing or fitting solver asks for one or two points at a time, hundreds of times)
-_POINTWISE_MAX_POINTS = 8
+#: at most this many points are evaluated one by one in Python floats, here where the curve has scalar
+#: formulas (:meth:`PiecewiseCurve.eval_point`) and by the lifts and the turret built on curves: a call on
+#: arrays costs ~30 µs whatever its size, one point ~3 µs (a tracing or fitting solver asks for one or
+#: two points at a time, hundreds of times)
+FEW_POINTS = 8
 
 
 
@@ -211,7 +212,7 @@ class PiecewiseCurve:
         """
         t_arr = np.asarray(t, dtype=np.float64)
         flat = t_arr.reshape(-1)
-        if flat.size <= _POINTWISE_MAX_POINTS and self.has_point_formulas:
+        if flat.size <= FEW_POINTS and self.has_point_formulas:
             points = self._derivatives_pointwise(flat, order)
             if points is not None:
                 return [o.reshape(t_arr.shape) for o in points]

@@ -19,7 +19,7 @@ from typing import Any, Literal, Protocol
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..curves.base import FloatArray
+from ..curves.base import FEW_POINTS, FloatArray
 from ..curves.catalog import named_curve
 from ..curves.curve import Curve
 from ..curves.reverse import ReturnCurve
@@ -185,7 +185,7 @@ class LiftSchedule:
         sorted ones by slices: the same angles as the masks', without their arrays' fixed cost.
         """
         n = flat.size
-        if n <= _FEW_ANGLES:
+        if n <= FEW_POINTS:
             ks = [bisect_right(self._starts_list, f) - 1 for f in flat.tolist()]
             if not ks:
                 return []
@@ -205,9 +205,6 @@ class LiftSchedule:
         masks = ((k, idx == k) for k in range(first, last + 1))
         return [(k, on_piece) for k, on_piece in masks if on_piece.any()]
 
-
-#: angles placed on their pieces by bisection in Python floats (fewer than numpy's fixed cost pays for)
-_FEW_ANGLES = 8
 
 MAX_PERIODS_PER_TURN = 1000  # lift periods on one cam turn; each one is a copy of the lift's breaks
 

@@ -293,9 +293,7 @@ def kind_spec(kind: CurveKind) -> type[CurveKindSpec]:
     fields: dict[str, Any] = {"type": (Literal[kind.name], kind.name), **{p.name: _field(p) for p in kind.fields},
                               "direction": (Direction, "rise")}
     model = create_model(f"{camel}CurveSpec", __base__=CurveKindSpec, __doc__=kind.description, **fields)
-    model.model_config.update(examples({"type": kind.name, **kind.example}))
-    if model.__pydantic_complete__:
-        model.model_rebuild(force=True)
+    model.model_config.update(examples({"type": kind.name, **kind.example}))  # read when it is built (deferred)
     model.__module__ = __name__
     return model
 

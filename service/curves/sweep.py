@@ -85,7 +85,7 @@ CharacteristicsSweepAnswer = create_model(
     __doc__="One row per combination, column by column: the varied parameters (a makino spec also its "
             "parameters solved from a target), the characteristic values (null where the row has an error), "
             "and the error sentence (null where there is none).",
-    __config__=ConfigDict(extra="allow"),
+    __config__=ConfigDict(extra="allow", defer_build=True),  # DeferredModel's, beside extra
     **_VALUE_COLUMNS,
     error=(list[str | None], Field(description="why the combination has no curve; null: it has one")),
 )

@@ -28,7 +28,7 @@ from service.errors import within
 from service.indexers.charts import check_panels, sweep_chart
 from service.indexers.specs import LOAD_EXAMPLE, LoadSpec, Positive
 from service.operations import JSON, PNG_DRAWING, SVG_DRAWING, Format, Operation, Payload, Table, csv
-from service.specs import JSON_INTEGER, Spec, exactly_one, examples, rule
+from service.specs import JSON_INTEGER, DeferredModel, Spec, exactly_one, examples, rule
 
 SWEEP_EXAMPLE: dict[str, object] = {
     "load": LOAD_EXAMPLE, "stops": [4, 6, 8], "indexing_angle_deg": [120, 180, 270],
@@ -73,7 +73,7 @@ SWEEP_EXAMPLES: dict[str, Example] = {
 _FIGURES: dict[str, Any] = {name: (list[float], Field(description=text)) for name, _, text, _ in answer_fields(Sizing)
                             if name in FIGURE_FIELDS}
 SizingSweepAnswer = create_model(
-    "SizingSweepAnswer", __doc__="One row per combination (the sizing figures of sizeIndexer, column by column).",
+    "SizingSweepAnswer", __base__=DeferredModel, __doc__="One row per combination (the sizing figures of sizeIndexer, column by column).",
     stops=(list[float], Field(description="n")), indexing_angle_deg=(list[float], Field(description="θh [deg]")),
     curve=(list[str], Field(description="the curve's catalog id, or its spec's kind")),
     cycle_time_s=(list[float] | None, Field(None, description="with cycle_time_s: t0 [s]")), **_FIGURES)

@@ -54,7 +54,7 @@ from functools import cached_property
 import numpy as np
 
 from ..._checks import count, positive
-from ...curves.base import FloatArray
+from ...curves.base import FEW_POINTS, FloatArray
 from ...curves.curve import Curve
 from ...errors import GeometryError, InvalidParameterError
 from ...indexer import Indexer
@@ -104,7 +104,7 @@ class ParallelCam:
         """
         curve, t_start, s_start, d_t, scales, theta_h, h = self._law
         theta = np.asarray(theta, dtype=np.float64)
-        if theta.size <= FEW_ANGLES:
+        if theta.size <= FEW_POINTS:
             few = self._turret_few(theta)
             if few is not None:
                 return few
@@ -172,10 +172,6 @@ class ParallelCam:
         return _TurretRoller(Follower(type="roller", motion="oscillating", roller_radius_mm=self.roller_radius_mm,
                                       arm_length_mm=self.roller_pitch_radius_mm,
                                       pivot_distance_mm=self.center_distance_mm), 0.0)
-
-
-#: cam angles :meth:`ParallelCam.turret` takes in Python floats (fewer than numpy's fixed cost pays for)
-FEW_ANGLES = 8
 
 
 class _TurretRoller(RollerOscillating):
