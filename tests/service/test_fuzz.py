@@ -51,13 +51,14 @@ from schemathesis.specs.openapi.checks import (
 import camcore
 from service.app import create_app
 from service.operations.cells import ERROR_STATUS_HEADER
+from tests.service.apps import UNHURRIED
 
 pytestmark = pytest.mark.fuzz
 
 MAX_EXAMPLES = int(os.environ.get("CAMCORE_FUZZ_EXAMPLES", "25"))
 REPORT = os.environ.get("CAMCORE_FUZZ_REPORT")
 
-APP = create_app()
+APP = create_app(UNHURRIED)  # its answers are not the machine's speed (tests/service/apps.py)
 SCHEMA = schemathesis.openapi.from_asgi("/openapi.json", APP)
 OPERATIONS = [result.ok() for result in SCHEMA.get_all_operations()]
 _PATHS = APP.openapi()["paths"]

@@ -36,10 +36,11 @@ from schemathesis import GenerationMode
 
 from service.app import create_app
 from service.specs import model_rules
+from tests.service.apps import UNHURRIED
 
 pytestmark = pytest.mark.anyio
 
-APP = create_app()
+APP = create_app(UNHURRIED)  # its answers are not the machine's speed (tests/service/apps.py)
 DOCUMENT = APP.openapi()
 
 
