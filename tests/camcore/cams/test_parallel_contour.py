@@ -95,12 +95,15 @@ def test_no_roller_enters_the_polyline(traced: tuple[Case, ParallelResult]) -> N
     delta, eps = CHORD_SHARE * case.rr, COVER_SHARE * case.c
     for plate in result.plates:
         cx, cy = dense_centres(case, plate.roller_start_angle_deg)
-        ring = shapely.LinearRing(np.column_stack([plate.x_mm, plate.y_mm]))
+        vertices = np.column_stack([plate.x_mm, plate.y_mm])
         pts = np.column_stack([cx.ravel(), cy.ravel()])
         # only centres within reach of a vertex can be near a chord (chords are short)
         gaps = np.hypot(np.diff(plate.x_mm, append=plate.x_mm[0]), np.diff(plate.y_mm, append=plate.y_mm[0]))
-        near = cKDTree(np.column_stack([plate.x_mm, plate.y_mm])).query(pts)[0] < case.rr + gaps.max()
-        d = shapely.distance(shapely.points(pts[near]), ring)
+        near = cKDTree(vertices).query(pts)[0] < case.rr + gaps.max()
+        # each centre's distance to its nearest chord: the distance to the closed polyline, found by
+        # Shapely's tree of the chords (the same numbers as to the ring, checked: 2-2.5× faster)
+        chords = shapely.linestrings(np.stack([vertices, np.roll(vertices, -1, axis=0)], axis=1))
+        _, d = shapely.STRtree(chords).query_nearest(shapely.points(pts[near]), return_distance=True, all_matches=False)
         assert d.min() >= case.rr - delta - eps, (d.min(), case.rr - delta - eps)
 
 
