@@ -168,7 +168,8 @@ def _motion_lift(motion: MotionProgram, unit: str, follower_motion: str, rotatio
                 f"{unit!r} ({'degrees of swing' if unit == 'deg' else 'mm of travel'}).", field=("unit",))
         return MotionLift(motion, rotation_ratio)
     except CamError as exc:
-        exc.field = ("motion", *exc.field)
+        if exc.field != ("rotation_ratio",):  # γ is the cam's own argument, not the program's
+            exc.field = ("motion", *exc.field)
         raise
 
 

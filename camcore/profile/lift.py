@@ -209,7 +209,8 @@ class LiftSchedule:
 MAX_PERIODS_PER_TURN = 1000  # lift periods on one cam turn; each one is a copy of the lift's breaks
 
 
-def periods_per_turn(span_deg: float, rotation_ratio: float, what: str) -> int:
+def periods_per_turn(span_deg: float, rotation_ratio: float, what: str,
+                     span_field: tuple[str, ...] | None = None) -> int:
     """How many periods of a lift over the drive angle make one cam turn.
 
     Parameters
@@ -220,6 +221,9 @@ def periods_per_turn(span_deg: float, rotation_ratio: float, what: str) -> int:
         γ, cam turns per drive turn [-]; one cam turn is 360/γ degrees of drive angle.
     what : str
         What repeats, for the error sentences ("the lift curve").
+    span_field : tuple of str, optional
+        The period's field, for a cam whose γ is not given (a barrel cam, a machine's camshaft: one
+        cam turn a master turn): the errors name it and ask for a longer period, not another γ.
 
     Returns
     -------
@@ -241,14 +245,17 @@ def periods_per_turn(span_deg: float, rotation_ratio: float, what: str) -> int:
         raise InvalidParameterError("The lift must span a positive drive angle.")
     drive_per_turn = 360.0 / rotation_ratio
     periods = drive_per_turn / span_deg
+    turn = (f"One cam turn is {drive_per_turn!r}° of drive angle (360°/rotation_ratio)" if span_field is None
+            else f"One cam turn is {drive_per_turn!r}° of master angle")
     if not periods <= MAX_PERIODS_PER_TURN:  # also inf, from a vanishing rotation_ratio
+        remedy, field = ("raise rotation_ratio", ("rotation_ratio",)) if span_field is None else \
+            (f"a cam turn holds at most {MAX_PERIODS_PER_TURN} periods", span_field)
         raise InvalidParameterError(
-            f"One cam turn is {drive_per_turn!r}° of drive angle (360°/rotation_ratio), more than "
-            f"{MAX_PERIODS_PER_TURN} periods of {what} ({span_deg!r}°): raise rotation_ratio.", field=("rotation_ratio",))
+            f"{turn}, more than {MAX_PERIODS_PER_TURN} periods of {what} ({span_deg!r}°): {remedy}.", field=field)
     if abs(periods - round(periods)) > 1e-9 * max(1.0, periods) or round(periods) < 1:
         raise InvalidParameterError(
-            f"One cam turn is {drive_per_turn!r}° of drive angle (360°/rotation_ratio); {what} repeats every "
-            f"{span_deg!r}°, which does not fit a whole number of times, so the cam contour would not close.")
+            f"{turn}; {what} repeats every {span_deg!r}°, which does not fit a whole number of times, so the cam "
+            "contour would not close.", field=span_field or ())
     return round(periods)
 
 
@@ -317,18 +324,21 @@ class MotionLift:
     dᵏs/dθᵏ = (180/(π·γ))ᵏ·dᵏs/dxᵏ, θ in radians and x in degrees.
     """
 
-    def __init__(self, program: MotionProgram, rotation_ratio: float = 1.0):
+    def __init__(self, program: MotionProgram, rotation_ratio: float | None = None):
         scale = max(abs(program.start), abs(program.start + program.advance), program.scales[0])
         if abs(program.advance) > CONTINUITY_TOLERANCE * scale:
             raise InvalidParameterError(
                 f"the motion program does not close: it ends at {program.start + program.advance!r} {program.unit} "
                 f"but starts at {program.start!r} {program.unit}, so it cannot be the lift of a cam.",
                 field=("segments",))
-        periods = periods_per_turn(program.period_deg, rotation_ratio, "the motion program")
+        # no γ given (a barrel cam, a machine's camshaft): one cam turn a master turn, the period the field at fault
+        ratio = 1.0 if rotation_ratio is None else rotation_ratio
+        periods = periods_per_turn(program.period_deg, ratio, "the motion program",
+                                   ("period_deg",) if rotation_ratio is None else None)
         self.program = program
         self.unit = program.unit
-        self.rotation_ratio = float(rotation_ratio)
-        self._breaks = _cam_breaks(program.breaks_deg, program.period_deg, periods, rotation_ratio)
+        self.rotation_ratio = float(ratio)
+        self._breaks = _cam_breaks(program.breaks_deg, program.period_deg, periods, ratio)
 
     @property
     def breaks_rad(self) -> FloatArray:

@@ -246,8 +246,18 @@ def test_a_program_of_half_a_turn_makes_a_two_lobe_cam() -> None:
     for ours, theirs in zip(MotionLift(slow, rotation_ratio=0.5).derivatives(theta * 2, 3),
                             schedule.derivatives(theta * 2, 3)):
         assert np.allclose(ours, theirs, rtol=1e-12, atol=1e-12)
-    with pytest.raises(InvalidParameterError, match="whole number"):
+    with pytest.raises(InvalidParameterError, match="whole number") as raised:
         MotionLift(resolve_motion(MotionSpec([move(150, to=20), move(150, to=0)], period_deg=300)))
+    # with no γ given (a barrel cam, a machine's camshaft) the period is the field at fault; with γ, γ
+    assert raised.value.field == ("period_deg",)
+    tiny = resolve_motion(MotionSpec([move(0.15, to=20), move(0.15, to=0)], period_deg=0.3))
+    with pytest.raises(InvalidParameterError, match="more than 1000 periods") as raised:
+        MotionLift(tiny)
+    assert raised.value.field == ("period_deg",)
+    with pytest.raises(InvalidParameterError, match="raise rotation_ratio") as raised:
+        MotionLift(tiny, rotation_ratio=1.0)
+    assert raised.value.field == ("rotation_ratio",)
+    assert len(MotionLift(tiny, rotation_ratio=2.4).breaks_rad) == 500 * len(tiny.breaks_deg)  # 150° a turn
 
 
 def test_make_cam_takes_a_program_in_the_follower_unit() -> None:

@@ -138,3 +138,46 @@ async def test_timing_chart_errors_name_their_place(client: httpx.AsyncClient) -
     too_many = {"speed_rpm": 60, "timing": {"unit": "deg", "segments": [{"span_deg": 1, "stroke": 1}] * 360}}
     r = await client.post("/v1/indexers/sizing", json={"indexer": too_many, "load": LOAD_EXAMPLE})
     assert r.status_code == 413 and r.json()["errors"][0]["loc"] == ["body", "indexer", "timing", "segments"]
+
+
+def _compressed(program: dict[str, Any], period_deg: float) -> dict[str, Any]:
+    """The program with its spans scaled to a cycle of ``period_deg``."""
+    scale = period_deg / program.get("period_deg", 360)
+    return {**program, "period_deg": period_deg,
+            "segments": [{**s, "span_deg": s["span_deg"] * scale} for s in program["segments"]]}
+
+
+async def test_a_program_repeated_over_1000_times_a_turn_is_a_422_at_its_period(client: httpx.AsyncClient) -> None:
+    """Found by fuzzing (2026-12-07): a barrel cam's solid estimated its stations over a list of the
+    program's copies on one turn, 360°/period of them, before anything refused the period: at
+    1e-6° (a span's least) 3.6e8 copies, gigabytes and minutes in the estimate; at 0.01° a 413 about
+    the tolerance. The JSON answer named motion.rotation_ratio, a field a barrel cam has not. Now
+    every cam with a program refuses over 1000 periods a turn (camcore.profile.lift) with a 422 at
+    the field the user can change: the period, or a plate cam's rotation_ratio."""
+    from service.cams.barrel_specs import CONICAL_BARREL_EXAMPLE
+    from service.machines.specs import FOUR_KINDS_EXAMPLE
+
+    solid = {"tolerance_mm": 0.05, "bore_diameter_mm": 20}
+    # the feed cycle in 0.01°, and the shortest program of all: one dwell of the least span
+    least = {"unit": "mm", "period_deg": 1e-6, "segments": [{"span_deg": 1e-6, "type": "dwell"}]}
+    for program in (_compressed(CONICAL_BARREL_EXAMPLE["motion"], 0.01), least):
+        barrel = {**CONICAL_BARREL_EXAMPLE, "motion": program}
+        for path, body in (("/v1/cams/barrel", barrel), ("/v1/cams/barrel.step", {**barrel, "solid": solid}),
+                           ("/v1/cams/barrel.stl", {**barrel, "solid": solid})):
+            r = await client.post(path, json=body)
+            assert r.status_code == 422, (path, program["period_deg"], r.text)
+            assert r.json()["errors"][0]["loc"] == ["body", "motion", "period_deg"], r.text
+            assert "more than 1000 periods of the motion program" in r.json()["detail"]
+    # a machine's motion axis: one camshaft turn a cycle
+    axes = [dict(axis) for axis in FOUR_KINDS_EXAMPLE["axes"]]
+    pusher = next(i for i, axis in enumerate(axes) if "motion" in axis)
+    axis_motion = axes[pusher]["motion"]
+    axes[pusher] = {**axes[pusher], "motion": {**axis_motion, "motion": _compressed(axis_motion["motion"], 0.01)}}
+    r = await client.post("/v1/machines", json={**FOUR_KINDS_EXAMPLE, "axes": axes})
+    assert r.status_code == 422, r.text
+    assert r.json()["errors"][0]["loc"] == ["body", "axes", pusher, "motion", "motion", "period_deg"], r.text
+    # a plate cam: γ sets the master angle of a cam turn, so γ is the field to change
+    r = await client.post("/v1/profiles", json={"profile": profile(motion=SCHEDULE_AS_PROGRAM, rotation_ratio=1e-4)})
+    assert r.status_code == 422, r.text
+    assert r.json()["errors"][0]["loc"] == ["body", "profile", "rotation_ratio"], r.text
+    assert "raise rotation_ratio" in r.json()["detail"]
