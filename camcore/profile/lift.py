@@ -249,7 +249,7 @@ def periods_per_turn(span_deg: float, rotation_ratio: float, what: str,
             else f"One cam turn is {drive_per_turn!r}° of master angle")
     if not periods <= MAX_PERIODS_PER_TURN:  # also inf, from a vanishing rotation_ratio
         remedy, field = ("raise rotation_ratio", ("rotation_ratio",)) if span_field is None else \
-            (f"a cam turn holds at most {MAX_PERIODS_PER_TURN} periods", span_field)
+            (f"lengthen {span_field[-1]} (a cam turn holds at most {MAX_PERIODS_PER_TURN} periods)", span_field)
         raise InvalidParameterError(
             f"{turn}, more than {MAX_PERIODS_PER_TURN} periods of {what} ({span_deg!r}°): {remedy}.", field=field)
     if abs(periods - round(periods)) > 1e-9 * max(1.0, periods) or round(periods) < 1:
