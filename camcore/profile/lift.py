@@ -259,6 +259,27 @@ def periods_per_turn(span_deg: float, rotation_ratio: float, what: str,
     return round(periods)
 
 
+def program_periods_per_turn(period_deg: float, rotation_ratio: float | None = None) -> int:
+    """How many periods of a motion program make one cam turn (:func:`periods_per_turn`).
+
+    Parameters
+    ----------
+    period_deg : float
+        The program's period [deg of master angle].
+    rotation_ratio : float, optional
+        γ [-]; None where the cam has none (a barrel cam, a machine's camshaft: one cam turn a
+        master turn), and then the errors name ``period_deg``.
+
+    Returns
+    -------
+    int
+        Periods a cam turn, 1 to :data:`MAX_PERIODS_PER_TURN` [-].
+    """
+    if rotation_ratio is None:
+        return periods_per_turn(period_deg, 1.0, "the motion program", ("period_deg",))
+    return periods_per_turn(period_deg, rotation_ratio, "the motion program")
+
+
 def _cam_breaks(drive_deg: ArrayLike, span_deg: float, periods: int, rotation_ratio: float) -> FloatArray:
     """Cam angles in [0, 2π) of break points given over one period of drive angle [rad]."""
     drive = np.asarray(drive_deg, dtype=np.float64)
@@ -331,10 +352,8 @@ class MotionLift:
                 f"the motion program does not close: it ends at {program.start + program.advance!r} {program.unit} "
                 f"but starts at {program.start!r} {program.unit}, so it cannot be the lift of a cam.",
                 field=("segments",))
-        # no γ given (a barrel cam, a machine's camshaft): one cam turn a master turn, the period the field at fault
+        periods = program_periods_per_turn(program.period_deg, rotation_ratio)
         ratio = 1.0 if rotation_ratio is None else rotation_ratio
-        periods = periods_per_turn(program.period_deg, ratio, "the motion program",
-                                   ("period_deg",) if rotation_ratio is None else None)
         self.program = program
         self.unit = program.unit
         self.rotation_ratio = float(ratio)

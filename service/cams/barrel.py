@@ -18,7 +18,7 @@ from camcore.errors import InvalidParameterError
 from camcore.export import SOLID_FORMATS
 from camcore.export.barrel_solid import BarrelSolid
 from camcore.profile import Segment
-from camcore.profile.lift import periods_per_turn
+from camcore.profile.lift import program_periods_per_turn
 from camcore.results import as_dict
 from camcore.work import (
     BARREL_CHECKS_FACTOR,
@@ -80,7 +80,7 @@ def _moves(body: BarrelCamRequest) -> list[tuple[float, float]]:
     arm's arc; a motion program's move: the pitch radius, its stroke may be solved)."""
     if body.motion is not None:  # a period of 360°/k repeats k times a turn (at most 1000: 422 before the list)
         with within("motion"):
-            repeats = periods_per_turn(body.motion.period_deg, 1.0, "the motion program", ("period_deg",))
+            repeats = program_periods_per_turn(body.motion.period_deg)  # as the cam's MotionLift counts them
         return [(math.radians(s.span_deg), 0.0 if s.type == "dwell" else body.pitch_radius_mm)
                 for s in body.motion.segments] * repeats
     arm = body.arm_length_mm or 0.0
