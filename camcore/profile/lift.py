@@ -265,7 +265,7 @@ def program_periods_per_turn(period_deg: float, rotation_ratio: float | None = N
     Parameters
     ----------
     period_deg : float
-        The program's period [deg of master angle].
+        The program's period, in master angle [deg].
     rotation_ratio : float, optional
         γ [-]; None where the cam has none (a barrel cam, a machine's camshaft: one cam turn a
         master turn), and then the errors name ``period_deg``.
@@ -274,6 +274,10 @@ def program_periods_per_turn(period_deg: float, rotation_ratio: float | None = N
     -------
     int
         Periods a cam turn, 1 to :data:`MAX_PERIODS_PER_TURN` [-].
+
+    References
+    ----------
+    Bezier valve-cam notes, eq. (12): θcam = γ·θdr (as :func:`periods_per_turn`).
     """
     if rotation_ratio is None:
         return periods_per_turn(period_deg, 1.0, "the motion program", ("period_deg",))
