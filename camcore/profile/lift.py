@@ -14,6 +14,7 @@ import math
 from bisect import bisect_right
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any, Literal, Protocol
 
 import numpy as np
@@ -25,6 +26,7 @@ from ..curves.curve import Curve
 from ..curves.reverse import ReturnCurve
 from ..errors import GeometryError, InvalidParameterError
 from ..motion.program import CONTINUITY_TOLERANCE, MotionProgram
+from .lift_stack import StackedLift
 
 TWO_PI = 2.0 * math.pi
 #: angles (degrees) of a lift schedule must add to 360 within this tolerance
@@ -155,9 +157,17 @@ class LiftSchedule:
     def breaks_rad(self) -> FloatArray:
         return self._breaks
 
+    @cached_property
+    def _stack(self) -> StackedLift | None:
+        return StackedLift.of(self._pieces, self._starts)
+
     def derivatives(self, theta: ArrayLike, order: int = 2) -> list[FloatArray]:
         th = np.asarray(theta, dtype=np.float64)
         flat = np.mod(th.reshape(-1), TWO_PI)
+        if flat.size > FEW_POINTS and self._stack is not None:  # every segment in one pass (lift_stack)
+            stacked = self._stack.derivatives(flat, order)
+            if stacked is not None:
+                return [o.reshape(th.shape) for o in stacked]
         out = list(np.zeros((order + 1, flat.size)))
         # np.minimum/np.maximum, not np.clip: the same numbers without its Python wrappers (the solvers
         # ask for one to a few hundred angles at a time, hundreds of times per request)
