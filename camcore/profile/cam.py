@@ -260,5 +260,28 @@ def rotate(x: FloatArray, y: FloatArray, ang: FloatArray) -> tuple[FloatArray, F
     Shinzato and Kunigami (1988): the contour x = l cos θ, y = l sin θ in the cam's frame
     (kinematic inversion: the fixed-frame point turned back by the cam angle).
     """
+    (turned,) = rotate_all(ang, (x, y))
+    return turned
+
+
+def rotate_all(ang: FloatArray, *points: tuple[FloatArray, FloatArray]) -> list[tuple[FloatArray, FloatArray]]:
+    """Several sets of points (x, y) turned by the same angles, the sines taken once.
+
+    Parameters
+    ----------
+    ang : ndarray
+        Angles of rotation, counter-clockwise positive [rad].
+    *points : (ndarray, ndarray)
+        Each an x and a y [mm].
+
+    Returns
+    -------
+    list of (ndarray, ndarray)
+        Each set turned, as :func:`rotate` turns it [mm].
+
+    References
+    ----------
+    Shinzato and Kunigami (1988), kinematic inversion.
+    """
     c, s = np.cos(ang), np.sin(ang)
-    return c * x - s * y, s * x + c * y
+    return [(c * x - s * y, s * x + c * y) for x, y in points]

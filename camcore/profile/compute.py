@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike
 
 from ..curves.base import FloatArray
 from ..errors import InvalidParameterError
-from .cam import CamSpec, kinematics, rotate
+from .cam import CamSpec, kinematics, rotate_all
 from .checks import ProfileChecks, profile_checks
 from .followers import Kinematics
 
@@ -71,7 +71,8 @@ def _in_cam_frame(spec: CamSpec, theta: FloatArray
     the cam angle into the cam's own frame (kinematic inversion)."""
     k = kinematics(spec, theta)
     back = -spec.sigma * theta
-    return k, rotate(k.contact[0], k.contact[1], back), rotate(k.pitch[0], k.pitch[1], back)
+    contact, pitch = rotate_all(back, k.contact, k.pitch)
+    return k, contact, pitch
 
 
 def contour(spec: CamSpec, cam_angle_deg: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:

@@ -24,7 +24,7 @@ import numpy as np
 from ..curves.base import FloatArray
 from ..deadline import checkpoint
 from ..errors import GeometryError, LimitExceededError
-from .geometry import Element, biarc
+from .geometry import Element, biarc, pair_distance
 from .measure import Span, measure
 from .offset import OffsetCurve
 
@@ -124,7 +124,7 @@ def _greedy(curve: OffsetCurve, theta0: float, theta1: float, start: tuple[Float
         if pair is None:
             return None, math.inf
         xs, ys = px[i:j + 1], py[i:j + 1]
-        return pair, float(np.minimum(pair[0].distance(xs, ys), pair[1].distance(xs, ys)).max())
+        return pair, float(pair_distance(pair, xs, ys).max())
 
     spans: list[Span] = []
     i, guess = 0, 8
@@ -199,7 +199,7 @@ def _split(curve: OffsetCurve, theta0: float, theta1: float, start: tuple[FloatA
     xs, ys = curve.points(inside)
     pair = biarc(start[0], start[1], end[0], end[1], theta0, theta1)
     if pair is not None:
-        dist = np.minimum(pair[0].distance(xs, ys), pair[1].distance(xs, ys))
+        dist = pair_distance(pair, xs, ys)
         if float(dist.max()) <= aim_mm:
             budget.add(2)
             return [Span(theta0, theta1, pair)]

@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..curves.base import FloatArray
-from ..profile.cam import CamSpec, rotate
+from ..profile.cam import CamSpec, rotate_all
 
 #: a left limit at a break point: the lift evaluated this far before it [rad] (the position
 #: moves by ~1e-11·|dB/dθ|, about 1e-9 mm on a 100 mm cam, below any machine's resolution)
@@ -100,8 +100,7 @@ def base_curve(spec: CamSpec, theta: FloatArray) -> BaseSample:
         a = speed
         b = -sg * (u1x * u2y - u1y * u2x) / speed**2  # κp·|u1|
     back = -sg * theta
-    bx, by = rotate(bx, by, back)
-    nx, ny = rotate(nx, ny, back)
+    (bx, by), (nx, ny) = rotate_all(back, (bx, by), (nx, ny))
     return BaseSample(theta, bx, by, nx, ny, a, b)
 
 
