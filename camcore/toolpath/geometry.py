@@ -140,10 +140,10 @@ def pair_distance(pair: tuple[Element, Element], x: FloatArray, y: FloatArray) -
     Returns
     -------
     ndarray
-        ``np.minimum(pair[0].distance(x, y), pair[1].distance(x, y))`` to the bit: two arcs are
-        measured in one pass of :meth:`Element.distance`'s operations over a row each (the greedy
-        fit asks this of a few dozen points, dozens of times per path, where each pass costs
-        mostly its fixed part).
+        The distance, ``np.minimum(pair[0].distance(x, y), pair[1].distance(x, y))`` to the bit:
+        two arcs are measured in one pass of :meth:`Element.distance`'s operations over a row each
+        (the greedy fit asks this of a few dozen points, dozens of times per path, where each pass
+        costs mostly its fixed part) [mm].
 
     References
     ----------

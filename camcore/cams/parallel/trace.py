@@ -18,7 +18,8 @@ The method, per plate:
    sampled centre is nearer than Rr − ε covers it; one whose nearest sampled centre is no
    nearer than that has its distance minimised exactly between its neighbouring samples (Newton
    on the cam angle, exact derivatives of the path), so a point is free exactly, not only at
-   the samples.
+   the samples. Newton is spared where the distance's Lipschitz bound already keeps the passage
+   out: between two samples an arc s apart it cannot fall below (d_a + d_b − s)/2.
 3. The walk starts at the envelope point nearest the axis that is free (nothing lies nearer the
    axis than the plate's contour, so it is on it) and goes along its envelope the way that keeps
    the plate on its left (counter-clockwise round the axis: along the tangent on side +1, against
@@ -61,6 +62,12 @@ CORNER_RAD = 1e-6
 BLOCK = 32
 #: the walk asks this many points ahead at a time at first, doubling up to the most
 FIRST_CHUNK, MOST_CHUNK = 32, 256
+#: a path's length between two samples over their chord, at most, where the path turns by no more
+#: than MOST_TURN_RAD between them (a circular arc turning by φ is (φ/2)/sin(φ/2) its chord: 1.0102
+#: at 0.49 rad); the traced paths turn by hundredths of a radian a step, and a path that all but stops
+#: (a cusp, its tangent turned round) is not bounded so
+ARC_OVER_CHORD = 1.0102
+MOST_TURN_RAD = 0.49
 
 
 class TooCoarse(GeometryError):
@@ -148,6 +155,13 @@ class PlateSamples:
         # a path comes nearer than Rr between two samples only if a sample is within Rr + spacing
         self.reach = rr + float(spacing.max()) + self.eps
         self.grid = CellGrid(self.px, self.py, self.reach)
+        # the path's length from each sample to the next, at most (None: a path turns too far within a
+        # step to bound it by its chord, and every passage near the band's edge is minimised)
+        tx, ty = self.env.tx[0], self.env.ty[0]
+        turn = np.arctan2(tx * np.roll(ty, -1, axis=1) - ty * np.roll(tx, -1, axis=1),
+                          tx * np.roll(tx, -1, axis=1) + ty * np.roll(ty, -1, axis=1))
+        self.arc_to_next: FloatArray | None = (spacing.reshape(-1) * ARC_OVER_CHORD
+                                               if float(np.abs(turn).max()) <= MOST_TURN_RAD else None)
 
     def roller(self, chain: NDArray[np.intp] | int, j: NDArray[np.intp] | int) -> NDArray[np.intp]:
         """The layer's roller at sample j of a chain [-]."""
@@ -197,6 +211,8 @@ class PlateSamples:
         tau: FloatArray = self.tau[j]
         # deep inside a band the sample tells; near its edge, the exact minimum between the samples
         edge = dist >= rr - self.eps
+        if edge.any() and self.arc_to_next is not None:
+            edge[edge] = self._may_dip(qx[qi[edge]], qy[qi[edge]], chain[edge], j[edge], dist[edge])
         if edge.any():
             t: FloatArray = tau[edge]
             dmin, tmin = distance_minima(self.cam, self.alpha0[chain[edge]], qx[qi[edge]], qy[qi[edge]], t,
@@ -206,6 +222,22 @@ class PlateSamples:
             tau = tau.copy()
             tau[np.flatnonzero(edge)[better]] = tmin[better]
         return qi, chain, dist, tau
+
+    def _may_dip(self, qx: FloatArray, qy: FloatArray, chain: NDArray[np.intp], j: NDArray[np.intp],
+                 dist: FloatArray) -> NDArray[np.bool_]:
+        """Whether each passage's path may come nearer than Rr − ε to its point between the samples
+        either side of its nearest one: the distance changes no faster than the path moves, so between
+        two samples d_a, d_b an arc s apart it stays above (d_a + d_b − s)/2 (the same passages as the
+        exact minimum finds above Rr − ε stay free; only the others are minimised)."""
+        assert self.arc_to_next is not None
+        length = self.length
+        here = chain * length + j
+        before = chain * length + (j - 1) % length  # a chain closes after L samples
+        after = chain * length + (j + 1) % length
+        d_before = np.hypot(self.px[before] - qx, self.py[before] - qy)
+        d_after = np.hypot(self.px[after] - qx, self.py[after] - qy)
+        low = np.minimum(d_before + dist - self.arc_to_next[before], dist + d_after - self.arc_to_next[here]) * 0.5
+        return low < self.cam.roller_radius_mm - self.eps
 
     def covered(self, qx: FloatArray, qy: FloatArray, own: NDArray[np.intp] | None) -> NDArray[np.bool_]:
         """Whether a roller comes nearer than Rr − ε to each point [-]."""
