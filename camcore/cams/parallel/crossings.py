@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from ..._solvers import illinois_roots
 from ...curves.base import FloatArray
-from .envelope import centres, envelope
+from .envelope import centres, track
 from .geometry import ParallelCam
 
 #: ε: a point is covered when a roller comes nearer than Rr − ε (:mod:`.trace`), a share of the
@@ -110,7 +110,7 @@ def crossings(cam: ParallelCam, alpha: FloatArray, sides: FloatArray, t0: FloatA
     t, u = t0.copy(), u0.copy()
     tol = CROSSING_SHARE * cam.center_distance_mm
     for _ in range(CROSSING_STEPS):
-        e = envelope(cam, alpha, sides, np.concatenate([t, u]))
+        e = track(cam, alpha, sides, np.concatenate([t, u]))
         fx, fy = e.x[:n] - e.x[n:], e.y[:n] - e.y[n:]
         if np.all(np.hypot(fx, fy) <= tol):
             break
@@ -125,7 +125,7 @@ def crossings(cam: ParallelCam, alpha: FloatArray, sides: FloatArray, t0: FloatA
         # A's cam angle stays in its bracket: nearly parallel envelopes may touch just outside it
         t = np.clip(t + np.where(bad, 0.0, np.clip(dt, -step, step)), lo, hi)
         u = u + np.where(bad, 0.0, np.clip(du, -step, step))
-    e = envelope(cam, alpha, sides, np.concatenate([t, u]))
+    e = track(cam, alpha, sides, np.concatenate([t, u]))
     solved = np.hypot(e.x[:n] - e.x[n:], e.y[:n] - e.y[n:]) <= tol
     # only a crossing between A's last free point and the first covered one counts
     return solved & (t >= lo - 1e-9 * step) & (t <= hi + 1e-9 * step), t, u
@@ -170,7 +170,7 @@ def bracketed_crossings(cam: ParallelCam, alpha_a: float, side_a: float, t_free:
     rr = cam.roller_radius_mm
 
     def depth(t: FloatArray, which: NDArray[np.intp]) -> FloatArray:
-        a = envelope(cam, alpha_a, side_a, t)
+        a = track(cam, alpha_a, side_a, t)
         d, u = distance_minima(cam, alpha_b[which], a.x, a.y, foot[which], u0[which] - CROSSING_STEPS * step,
                                 u0[which] + CROSSING_STEPS * step)
         foot[which] = u
@@ -214,7 +214,7 @@ def feet(cam: ParallelCam, alpha: FloatArray, side: FloatArray, x: float, y: flo
     u = u0.copy()
     eps2 = 2 * COVER_SHARE * cam.center_distance_mm
     for _ in range(CROSSING_STEPS):
-        e = envelope(cam, alpha, side, u)
+        e = track(cam, alpha, side, u)
         with np.errstate(divide="ignore", invalid="ignore"):
             du = -((e.x - x) * e.tx + (e.y - y) * e.ty) / e.stretch
         du = np.where(np.isfinite(du), np.clip(du, -step, step), 0.0)
@@ -226,6 +226,6 @@ def feet(cam: ParallelCam, alpha: FloatArray, side: FloatArray, x: float, y: flo
         u = u + du
         if np.all(far | (np.abs(du) <= 1e-15 * np.maximum(1.0, np.abs(u)))):
             break
-    e = envelope(cam, alpha, side, u)
+    e = track(cam, alpha, side, u)
     gap = np.hypot(e.x - x, e.y - y)
     return np.where(gap <= eps2, u, np.nan)

@@ -3,8 +3,8 @@
 A roller of arm angle α₀ at θ = 0 is the oscillating roller follower of
 :mod:`camcore.profile.followers` whose arm angle is α₀ + φ(τ) (φ the turret's angle,
 :meth:`ParallelCam.turret`): its pitch point c(τ), c′, c″ and the follower's kinematics
-(contact point, pressure angle, pitch-curve curvature κp) come from that model, in closed form
-from φ, φ′, φ″. τ is the roller's own cam angle, any real number: a turn later the same
+(contact point, pressure angle, pitch-curve curvature κp) are that model's, in closed form from
+φ, φ′, φ″ (written out in its operations: the same numbers). τ is the roller's own cam angle, any real number: a turn later the same
 roller stands where the next m/stops rollers of its layer stood (:mod:`.geometry`), so one
 roller followed over ``stops`` turns is its layer's whole closed path (a *chain*).
 
@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -124,24 +125,84 @@ def both_sides(cam: ParallelCam, alpha0: FloatArray | float, tau: FloatArray) ->
     return _on_side(cam, stacked, side)
 
 
-def _roller(cam: ParallelCam, alpha0: FloatArray, tau: FloatArray) -> tuple[FloatArray, ...]:
-    """The side-free part: centre, unit tangent, |u1|, pressure angle and κp of the pitch curve."""
+def _roller(cam: ParallelCam, alpha0: FloatArray, tau: FloatArray, pressure: bool = True) -> tuple[Any, ...]:
+    """The side-free part: centre, unit tangent, |u1|, pressure angle (None unless asked) and κp of the
+    pitch curve.
+
+    The turret roller is the oscillating roller follower of :mod:`camcore.profile.followers` (pivot at
+    C, arm Rp, σ = +1) whose arm angle is α₀ + φ: its pitch point (``KnifeEdgeOscillating.pitch_point``,
+    the lift α₀ + φ in degrees) and kinematics (``_PointFollower.kinematics_of``) are written out here
+    in the model's operations and order, so the same numbers to the bit, without the quantities the
+    envelope does not use (the solvers ask for a few points at a time, a hundred times a plate;
+    tests/camcore/cams/test_parallel_envelope.py compares them with the model).
+    """
     phi, d1, d2 = cam.turret(tau)
-    # the turret roller with α₀ = 0: its arm angle is the lift, α₀ + φ
-    lift = [np.degrees(alpha0 + phi), np.degrees(d1), np.degrees(d2)]
-    model = cam.roller_model
-    pitch = model.pitch_point(0.0, *lift)
-    cx, cy, c1x, c1y, *_ = pitch
-    k = model.kinematics_of(1.0, tau, lift, pitch)
-    # u1 = c′ − J·c (σ = +1): the pitch curve's derivative, in the fixed frame
+    arm, pivot = float(cam.roller_pitch_radius_mm), float(cam.center_distance_mm)
+    # the model's arm angle: its α₀ (0) plus the lift, which is α₀ + φ in degrees
+    a = 0.0 + np.radians(np.degrees(alpha0 + phi))
+    a1, a2 = np.radians(np.degrees(d1)), np.radians(np.degrees(d2))
+    sa, ca = np.sin(a), np.cos(a)
+    c2x = arm * (ca * a1 * a1 + sa * a2)
+    c2y = arm * (-sa * a1 * a1 + ca * a2)
+    cx, cy, c1x, c1y = pivot - arm * ca, arm * sa, arm * sa * a1, arm * ca * a1
+    # u1 = c′ − J·c, u2 = c″ − 2J·c′ − c (σ = +1): the pitch curve's derivatives, in the fixed frame
     u1x, u1y = c1x + cy, c1y - cx
+    u2x = c2x + 2.0 * c1y - cx
+    u2y = c2y - 2.0 * c1x - cy
     speed = np.hypot(u1x, u1y)
+    kappa_pitch = -1.0 * (u1x * u2y - u1y * u2x) / speed**3
+    # the follower's pressure angle, φ = atan2(u1·v̂, −u1·(J v̂)), v̂ = (sin α, cos α)
+    p = np.arctan2(u1x * sa + u1y * ca, -1.0 * (-u1x * ca + u1y * sa)) if pressure else None
     cos_t, sin_t = np.cos(tau), np.sin(tau)
     # into the cam's frame, R(−τ)
     tx = (cos_t * u1x + sin_t * u1y) / speed
     ty = (-sin_t * u1x + cos_t * u1y) / speed
     px, py = cos_t * cx + sin_t * cy, -sin_t * cx + cos_t * cy
-    return px, py, tx, ty, speed, k.pressure, k.kappa_pitch
+    return px, py, tx, ty, speed, p, kappa_pitch
+
+
+@dataclass(frozen=True)
+class EnvelopeTrack:
+    """What the solvers follow an envelope by: its points [mm], the pitch curve's unit tangent T [-]
+    and the stretch, dE/dτ = stretch·T [mm/rad] (:class:`EnvelopePoints`' numbers, to the bit)."""
+
+    x: FloatArray
+    y: FloatArray
+    tx: FloatArray
+    ty: FloatArray
+    stretch: FloatArray
+
+
+def track(cam: ParallelCam, alpha0: FloatArray | float, side: FloatArray | float, tau: FloatArray) -> EnvelopeTrack:
+    """Envelope points with their tangents and stretch only: :func:`envelope` without the pressure
+    angles and radii of curvature, for the solvers' steps.
+
+    Parameters
+    ----------
+    cam : ParallelCam
+        The cam.
+    alpha0 : ndarray or float
+        Each roller's arm angle at τ = 0 [rad].
+    side : ndarray or float
+        −1 or +1 [-].
+    tau : ndarray
+        The roller's cam angle [rad].
+
+    Returns
+    -------
+    EnvelopeTrack
+        Points [mm], unit tangents [-], stretch [mm/rad].
+
+    References
+    ----------
+    Farouki and Neff (1990), the offset's speed.
+    """
+    alpha0, side, tau = np.broadcast_arrays(np.asarray(alpha0, dtype=np.float64), np.asarray(side, dtype=np.float64),
+                                            np.asarray(tau, dtype=np.float64))
+    px, py, tx, ty, speed, _, kappa_pitch = _roller(cam, alpha0, tau, pressure=False)
+    rr = cam.roller_radius_mm
+    kappa = -side * kappa_pitch
+    return EnvelopeTrack(px - side * rr * ty, py + side * rr * tx, tx, ty, speed * (1.0 - rr * kappa))
 
 
 def _on_side(cam: ParallelCam, state: tuple[FloatArray, ...], side: FloatArray) -> EnvelopePoints:

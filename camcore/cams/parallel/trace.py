@@ -51,7 +51,7 @@ from ...curves.base import FloatArray
 from ...deadline import checkpoint
 from ...errors import GeometryError
 from .crossings import COVER_SHARE, bracketed_crossings, crossings, distance_minima, feet
-from .envelope import EnvelopePoints, both_sides, centres, envelope
+from .envelope import EnvelopePoints, EnvelopeTrack, both_sides, centres, envelope, track
 from .geometry import ParallelCam
 from .neighbours import CellGrid, block_order
 
@@ -260,7 +260,7 @@ class PlateSamples:
         return state == 1
 
 
-def _travel(e: EnvelopePoints, i: int, sign: int) -> tuple[float, float]:
+def _travel(e: EnvelopePoints | EnvelopeTrack, i: int, sign: int) -> tuple[float, float]:
     """The unit direction the walk runs along envelope point i."""
     s = sign * (1.0 if float(e.stretch[i]) >= 0 else -1.0)
     return s * float(e.tx[i]), s * float(e.ty[i])
@@ -332,7 +332,7 @@ class _Walk:
         a_side = 1.0 if side == 1 else -1.0
         # where the two envelopes run together the walk hands over at its last free point, to that
         # point's foot on the other envelope
-        here = envelope(cam, s.alpha0[chain], a_side, np.array([t_last]))
+        here = track(cam, s.alpha0[chain], a_side, np.array([t_last]))
         x, y = float(here.x[0]), float(here.y[0])
         found = feet(cam, s.alpha0[c], side_b, x, y, u0, s.step)
         crossing = not np.isfinite(found).any()
@@ -354,8 +354,8 @@ class _Walk:
             k = int(np.argmin(np.where(ok, sign * (t - t_last), np.inf)))
             t_out, u_in = float(t[k]), float(u[k])
         b_row, b_chain = (1 if side_b[k] > 0 else 0), int(c[k])
-        ends = envelope(cam, np.array([s.alpha0[chain], s.alpha0[b_chain]]), np.array([a_side, float(side_b[k])]),
-                        np.array([t_out, u_in]))
+        ends = track(cam, np.array([s.alpha0[chain], s.alpha0[b_chain]]), np.array([a_side, float(side_b[k])]),
+                     np.array([t_out, u_in]))
         ta, tb = _travel(ends, 0, sign), _travel(ends, 1, 1 if b_row == 1 else -1)
         turn = math.atan2(ta[0] * tb[1] - ta[1] * tb[0], ta[0] * tb[0] + ta[1] * tb[1])
         return _Exit(t_out, (b_row, b_chain), u_in, crossing and abs(turn) > CORNER_RAD)

@@ -211,7 +211,7 @@ def test_the_turret_and_the_centres_are_the_models(curve: str) -> None:
         assert np.abs(mine - theirs).max() <= 1e-13
     alpha0 = 0.3
     px, py, p1x, p1y, p2x, p2y = centres(cam, alpha0, theta)
-    e = envelope(cam, alpha0, 1.0, theta)  # through the follower model's pitch point and kinematics
+    e = envelope(cam, alpha0, 1.0, theta)  # the follower model's numbers (test_parallel_envelope.py)
     assert np.abs(px - e.px).max() <= 1e-12 and np.abs(py - e.py).max() <= 1e-12
     speed = np.hypot(p1x, p1y)
     assert np.abs(p1x / speed - e.tx).max() <= 1e-12 and np.abs(p1y / speed - e.ty).max() <= 1e-12
@@ -272,13 +272,13 @@ def test_a_foot_search_gives_up_only_where_the_point_is_off_the_envelope(monkeyp
     alpha0 = cam.start_angles(0)[0]
     step = 2 * math.pi / 1444
     calls = [0]
-    real = crossings.envelope
+    real = crossings.track
 
     def counted(*args: object) -> object:
         calls[0] += 1
         return real(*args)  # type: ignore[arg-type]
 
-    monkeypatch.setattr(crossings, "envelope", counted)
+    monkeypatch.setattr(crossings, "track", counted)
     for gap in (1e-7, 1e-6, 1.9e-5, 2.1e-5, 1e-4, 1e-2, 0.3):
         for side in (-1.0, 1.0):
             u = rng.uniform(0.0, 2 * math.pi, 3)
