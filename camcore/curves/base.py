@@ -224,16 +224,41 @@ class PiecewiseCurve:
         return [o.reshape(t_arr.shape) for o in out]
 
     def _derivatives_pointwise(self, flat: FloatArray, order: int) -> list[FloatArray] | None:
-        """A few T inside [T0, T7], each by :meth:`eval_point` (the gathered numbers to the bit, without
-        the arrays' fixed cost); None when one lies outside (the general path fills sections 0 and VIII)."""
-        bounds = self._piece_index_bounds_list
+        """A few T inside [T0, T7], each by :meth:`point_derivatives` (the gathered numbers to the bit,
+        without the arrays' fixed cost); None when one lies outside (the general path fills sections 0
+        and VIII)."""
         rows = []
         for t in flat.tolist():
-            k = bisect_right(bounds, t) - 1  # :meth:`piece_index`: np.searchsorted(…, side="right") − 1
-            if not 0 <= k < self.n_pieces:
+            row = self.point_derivatives(t)
+            if row is None:
                 return None
-            rows.append(self.eval_point(t, k))
+            rows.append(row)
         return [np.array([row[o] for row in rows], dtype=np.float64) for o in range(order + 1)]
+
+    def point_derivatives(self, t: float) -> list[float] | None:
+        """S, V, A, J, dJ/dT at one T inside [T0, T7] as Python floats.
+
+        Parameters
+        ----------
+        t : float
+            Dimensionless time [-].
+
+        Returns
+        -------
+        list of float or None
+            [S, V, A, J, dJ/dT] by :meth:`eval_point`, the arrays' numbers to the bit [-]; None outside
+            [T0, T7] (Makino's sections 0 and VIII) or for a curve without point formulas.
+
+        References
+        ----------
+        Makino (1977), subroutine CURVE: one T, its section, its formulas.
+        """
+        if not self.has_point_formulas:
+            return None
+        k = bisect_right(self._piece_index_bounds_list, t) - 1  # :meth:`piece_index`: searchsorted(…, "right") − 1
+        if not 0 <= k < self.n_pieces:
+            return None
+        return self.eval_point(t, k)
 
     @cached_property
     def _piece_index_bounds_list(self) -> list[float]:

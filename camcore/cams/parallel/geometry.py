@@ -119,21 +119,27 @@ class ParallelCam:
 
     def _turret_few(self, theta: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray] | None:
         """:meth:`turret` at a few finite angles in Python floats: the same operations, so the same
-        numbers to the bit, without numpy's fixed cost per call (None: an angle is not finite)."""
+        numbers to the bit, without numpy's fixed cost per call (None: an angle is not finite, or its
+        time has no point formulas). An angle in the dwell needs no curve: φ = h a turn, φ′ = φ″ = 0."""
         curve, t_start, s_start, d_t, scales, theta_h, h = self._law
         angles = theta.reshape(-1).tolist()
         if not all(math.isfinite(x) for x in angles):
             return None
-        turns = [float(math.floor(x * (0.5 / math.pi))) for x in angles]
-        within = [x - k * (2 * math.pi) for x, k in zip(angles, turns)]
-        s, v, a = curve.derivatives(np.array([t_start + d_t * min(w / theta_h, 1.0) for w in within]), 2)
-        index = [w <= theta_h for w in within]
-        rows = zip(index, s.tolist(), v.tolist(), a.tolist(), turns)
         phi, d1, d2 = [], [], []
-        for on, s_k, v_k, a_k, k in rows:
-            phi.append((scales[0] * (s_k - s_start) if on else h) + k * h)
-            d1.append(scales[1] * v_k if on else 0.0)
-            d2.append(scales[2] * a_k if on else 0.0)
+        for x in angles:
+            turns = float(math.floor(x * (0.5 / math.pi)))
+            within = x - turns * (2 * math.pi)
+            if within <= theta_h:
+                row = curve.point_derivatives(t_start + d_t * min(within / theta_h, 1.0))
+                if row is None:
+                    return None
+                phi.append(scales[0] * (row[0] - s_start) + turns * h)
+                d1.append(scales[1] * row[1])
+                d2.append(scales[2] * row[2])
+            else:
+                phi.append(h + turns * h)
+                d1.append(0.0)
+                d2.append(0.0)
         shape = theta.shape
         return np.array(phi).reshape(shape), np.array(d1).reshape(shape), np.array(d2).reshape(shape)
 
