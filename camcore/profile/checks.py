@@ -102,8 +102,14 @@ def lift_check_grid(lift: Lift, n: int = CHECK_GRID) -> FloatArray:
     """
     base = np.linspace(0.0, TWO_PI, n, endpoint=False)
     br = np.asarray(lift.breaks_rad, dtype=np.float64)
-    left = np.mod(br - 1e-10, TWO_PI)
-    return np.unique(np.concatenate([base, br, left]))
+    extra = np.unique(np.concatenate([br, np.mod(br - 1e-10, TWO_PI)]))
+    if not base.size:
+        return extra
+    # np.unique of everything, without sorting the sorted base: the extra angles not in it, inserted
+    # in order (all are ≥ +0, so equal angles are equal bits and which one stays does not matter)
+    at = np.searchsorted(base, extra)
+    new = ~((at < base.size) & (base[np.minimum(at, base.size - 1)] == extra))
+    return np.insert(base, at[new], extra[new])
 
 
 @dataclass(frozen=True)
@@ -186,12 +192,14 @@ def lift_corners(lift: Lift, slope_on_grid: FloatArray | None = None) -> list[fl
     br = np.asarray(lift.breaks_rad, dtype=np.float64)
     if br.size == 0:
         return []
-    right = lift.derivatives(br, 1)
-    left = lift.derivatives(br - 1e-9, 1)
+    # both sides of every break in one evaluation (a call costs mostly its fixed part)
+    both = lift.derivatives(np.concatenate([br, br - 1e-9]), 1)
+    jumps = np.abs(both[1][:br.size] - both[1][br.size:])
+    if not bool((jumps > 1e-6).any()):  # the scale is at least 1: no jump can pass it (the grid's lift unasked)
+        return []
     h1 = lift.derivatives(lift_check_grid(lift, 720), 1)[1] if slope_on_grid is None else slope_on_grid
     scale = max(1.0, float(np.abs(h1).max()))
-    jump = np.abs(right[1] - left[1]) > 1e-6 * scale
-    return [float(np.degrees(b)) for b in br[jump]]
+    return [float(np.degrees(b)) for b in br[jumps > 1e-6 * scale]]
 
 
 #: the quantities whose maxima the checks need, by follower kind: flat faces −ρ, the face

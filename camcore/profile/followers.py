@@ -155,8 +155,9 @@ class KnifeEdgeTranslating(_PointFollower):
         """c = (e, s0 + h), c' = (0, h'), c'' = (0, h''), v̂ = (0, 1); s0 = √((Rb + Rr)² − e²) [mm]."""
         e = self.follower.offset_mm
         s0 = math.sqrt((base_radius_mm + self.roller_radius_mm) ** 2 - e * e)
-        zero, one = np.zeros_like(h), np.ones_like(h)
-        return np.full_like(h, e), s0 + h, zero, h1, zero, h2, zero, one
+        # np.zeros etc. of the shape: the *_like functions' numbers at a fraction of their call's cost
+        zero, one = np.zeros(h.shape, h.dtype), np.ones(h.shape, h.dtype)
+        return np.full(h.shape, e, h.dtype), s0 + h, zero, h1, zero, h2, zero, one
 
 
 class RollerTranslating(KnifeEdgeTranslating):
@@ -271,8 +272,8 @@ class FlatTranslating(_FlatFollower):
     def support(self, base_radius_mm: float, sigma: float, h: FloatArray, h1: FloatArray, h2: FloatArray
                 ) -> tuple[FloatArray, ...]:
         """Face ⟂ the motion: p = Rb + h, p' = h', p'' = h'', φn' = −σ, φn'' = 0, m = (0, 1)."""
-        return (base_radius_mm + h, h1, h2, np.full_like(h, -sigma), np.zeros_like(h),
-                np.zeros_like(h), np.ones_like(h))
+        zero = np.zeros(h.shape, h.dtype)
+        return base_radius_mm + h, h1, h2, np.full(h.shape, -sigma, h.dtype), zero, zero, np.ones(h.shape, h.dtype)
 
     def face_offset(self, cx: FloatArray, cy: FloatArray) -> FloatArray:
         """cx − e, the contact's distance from the stem axis along the face [mm]."""

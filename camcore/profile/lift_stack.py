@@ -188,13 +188,14 @@ class StackedLift:
         Makino (1977), eqs. (1)-(9); Bezier valve-cam notes, eq. (12).
         """
         where = np.searchsorted(self.thresholds, flat, side="right") - 1
-        start, span, t_start, t_span, mirror, level, s0, column, dwell, back, *factor = np.take(
-            self.constants, where, axis=1)
+        # the constants of the columns, the factors only as far as the order (a row costs a gather)
+        start, span, t_start, t_span, mirror, level, s0, column, dwell, back, *factor = self.constants[
+            : len(ROWS) - MOST_ORDER + order].take(where, axis=1)
         if bool((column < -1.0).any()):
             return None
-        out = list(np.zeros((order + 1, flat.size)))
         live: NDArray[np.intp] | None = None
         if bool(dwell.any()):
+            out = list(np.zeros((order + 1, flat.size)))
             on = dwell > 0.0
             out[0][on] = level[on]
             live = np.flatnonzero(~on)

@@ -13,7 +13,7 @@ import pytest
 from camcore._maxima import golden_max
 from camcore.curves import build_curve
 from camcore.profile import Follower, Segment, kinematics, make_cam, profile_checks, size_base_circle
-from camcore.profile.checks import check_grid, lift_grid
+from camcore.profile.checks import check_grid, lift_check_grid, lift_corners, lift_grid
 
 MS = build_curve("named", {"name": "MS"})
 CA = build_curve("named", {"name": "constant-acceleration"})
@@ -94,3 +94,65 @@ def test_lift_grid_is_the_lift_on_the_check_grid() -> None:
         np.testing.assert_array_equal(mine, direct)
     # the checks with a grid handed in are the checks without one, bit for bit
     assert profile_checks(spec, grid) == profile_checks(spec)
+
+
+class _Breaks:
+    """A lift with given break points only (what lift_check_grid reads)."""
+
+    def __init__(self, breaks_rad: np.ndarray):
+        self.breaks_rad = breaks_rad
+
+
+def test_the_check_grid_is_np_unique_of_its_angles() -> None:
+    # the base grid with the breaks and their left neighbours inserted is np.unique of all of them: breaks
+    # on the grid, at 0, repeated, unsorted, a left neighbour landing on a grid angle
+    rng = np.random.default_rng(4)
+    for _ in range(3000):
+        n = int(rng.choice([7200, 720, 13, 2, 1, 0]))
+        base = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
+        breaks = rng.uniform(0.0, 2 * math.pi, int(rng.integers(0, 12)))
+        if breaks.size and n:
+            breaks[: breaks.size // 2] = base[rng.integers(0, n, breaks.size // 2)]
+            breaks = np.concatenate([breaks, breaks[:2], [0.0, base[-1] + 1e-10]])  # repeated, unsorted
+        expected = np.unique(np.concatenate([base, breaks, np.mod(breaks - 1e-10, 2 * math.pi)]))
+        np.testing.assert_array_equal(lift_check_grid(_Breaks(breaks), n), expected)
+
+
+def _corners_with_the_grid_always(lift) -> list[float]:
+    """lift_corners as it was: the scale from a 720-point grid whatever the jumps."""
+    br = np.asarray(lift.breaks_rad, dtype=np.float64)
+    if br.size == 0:
+        return []
+    right, left = lift.derivatives(br, 1), lift.derivatives(br - 1e-9, 1)
+    h1 = lift.derivatives(lift_check_grid(lift, 720), 1)[1]
+    scale = max(1.0, float(np.abs(h1).max()))
+    return [float(np.degrees(b)) for b in br[np.abs(right[1] - left[1]) > 1e-6 * scale]]
+
+
+@pytest.mark.parametrize(("curve", "jumps"), [(None, False), (MS, False), (CA, False),
+                                               (build_curve("named", {"name": "constant-velocity"}), True)],
+                         ids=["cycloid", "MS", "constant-acceleration", "constant-velocity"])
+def test_corners_skip_the_grid_only_where_no_jump_could_count(curve, jumps: bool) -> None:
+    # a jump must pass 1e-6 times a scale of at least 1: below 1e-6 everywhere there is no corner, the
+    # grid's lift unasked; a velocity that jumps (constant velocity) still gets the grid's scale
+    for lift_mm in (0.001, 12.0, 400.0):
+        spec = make_cam(Follower("roller", roller_radius_mm=6.0), 40.0 + lift_mm, segments=[
+            Segment(type="rise", angle_deg=100, lift_mm=lift_mm, curve=curve), Segment(type="dwell", angle_deg=80),
+            Segment(type="return", angle_deg=120, lift_mm=lift_mm, curve=curve), Segment(type="dwell", angle_deg=60)])
+        found = lift_corners(spec.lift)
+        assert found == _corners_with_the_grid_always(spec.lift)
+        assert bool(found) == jumps, found
+
+
+def test_angles_already_in_one_turn_are_their_own_remainder() -> None:
+    # the lift reduces its angles to [0, 2π) with np.mod unless a long array already lies there: np.mod
+    # leaves such an angle's bits as they are; −0 (np.mod gives +0), 2π and NaN are reduced
+    spec = cam(FOLLOWERS[1])
+    rng = np.random.default_rng(9)
+    inside = np.concatenate([rng.uniform(0.0, 2 * math.pi, 5000), [0.0, 5e-324, np.nextafter(2 * math.pi, 0.0)]])
+    np.testing.assert_array_equal(np.mod(inside, 2 * math.pi), inside)
+    assert not np.signbit(np.mod(inside, 2 * math.pi)).any()
+    for odd in (-0.0, 2 * math.pi, -1e-300, math.nan):
+        theta = np.concatenate([inside[:400], [odd]])
+        for mine, reduced in zip(spec.lift.derivatives(theta, 2), spec.lift.derivatives(np.mod(theta, 2 * math.pi), 2)):
+            np.testing.assert_array_equal(mine, reduced)
