@@ -25,7 +25,7 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
@@ -39,7 +39,7 @@ from ..profile.checks import check_grid, corners
 from ..profile.lift import TWO_PI
 from .fit import Budget, fit_stretch
 from .geometry import Element, corner_arc, path_area
-from .offset import LEFT_LIMIT_RAD, BaseSample, OffsetCurve, base_curve, corner_turn
+from .offset import LEFT_LIMIT_RAD, OffsetCurve, base_stretch, corner_turn
 
 Side = Literal["outside", "inside", "groove"]
 SIDES: tuple[str, ...] = ("outside", "inside", "groove")
@@ -247,23 +247,29 @@ def _path(spec: CamSpec, wall: str, w: float, eps: float, rt: float, tol: float,
     d = w + eps * rt
     curve = OffsetCurve(spec, d)
     bounds = sorted({0.0, TWO_PI, *[c for c in corner_rad if c > 0.0], *_cusps(spec, d, on_grid)})
+    # the joins' one-sided limits sit LEFT_LIMIT_RAD before their break: that far apart, times
+    # the path's speed there (about its radius), so the gap they leave grows with the cam's size
+    joins = [b - LEFT_LIMIT_RAD for b in bounds[1:] if b in turns or b == TWO_PI]
+    # every stretch's ends and the joins' speed from one evaluation of the curve (mostly its fixed cost)
+    ends = [(_end_angles(bounds[k], +1.0, bounds[k] in turns),
+             _end_angles(bounds[k + 1], -1.0, bounds[k + 1] in turns or bounds[k + 1] == TWO_PI))
+            for k in range(len(bounds) - 1)]
+    x, y, tx, ty, travel_speed = curve.travel(np.array([t for pair in ends for end in pair for t in end] + joins))
     elements: list[Element] = []
     deviation = 0.0
     for k in range(len(bounds) - 1):
         a, b = bounds[k], bounds[k + 1]
         if a in turns and a > 0.0:
             elements += _corner(curve, a, budget)
-        start = _end_data(curve, a, +1.0, a in turns)
-        end = _end_data(curve, b, -1.0, b in turns or b == TWO_PI)
+        # the ends' point and tangent: entries 4k, 4k + 1 (start) and 4k + 2, 4k + 3 (end) of the evaluation
+        start = (np.array([x[4 * k], y[4 * k]]), np.array([tx[4 * k + 1], ty[4 * k + 1]]))
+        end = (np.array([x[4 * k + 2], y[4 * k + 2]]), np.array([tx[4 * k + 3], ty[4 * k + 3]]))
         spans, measured = fit_stretch(curve, a, b, start, end, tol, TWO_PI / GRID_STEPS, budget)
         deviation = max(deviation, measured)
         elements += [e for s in spans for e in s.elements]
     if 0.0 in turns:
         elements += _corner(curve, TWO_PI, budget)
-    # the joins' one-sided limits sit LEFT_LIMIT_RAD before their break: that far apart, times
-    # the path's speed there (about its radius), so the gap they leave grows with the cam's size
-    joins = np.array([b - LEFT_LIMIT_RAD for b in bounds[1:] if b in turns or b == TWO_PI])
-    speed = float(curve.travel(joins)[4].max()) if joins.size else 0.0
+    speed = float(travel_speed[4 * len(ends):].max()) if joins else 0.0
     elements = _closed(elements, 1e-6 + 4.0 * LEFT_LIMIT_RAD * speed)
     clockwise = path_area(elements) < 0
     if clockwise != (eps > 0):  # climb milling: clockwise round an outside, counter-clockwise inside
@@ -285,22 +291,23 @@ def _closed(elements: list[Element], max_gap_mm: float) -> list[Element]:
     for e in elements[1:] + [elements[0]]:
         gap = math.dist(out[-1].end, e.start)
         assert gap < max_gap_mm, f"the path has a gap of {gap} mm (at most {max_gap_mm} expected)"
+        # e from the last one's end: dataclasses.replace(e, start=…), made directly (replace costs µs)
+        joined = Element(out[-1].end, e.end, e.centre, e.ccw, e.theta0_rad, e.theta1_rad)
         if e is elements[0]:
-            out[0] = replace(out[0], start=out[-1].end)
+            out[0] = joined
         else:
-            out.append(replace(e, start=out[-1].end))
+            out.append(joined)
     return out
 
 
-def _end_data(curve: OffsetCurve, theta: float, side: float, one_sided: bool) -> tuple[FloatArray, FloatArray]:
-    """Point and unit travel tangent at an end of a stretch: a one-sided limit at a corner or
-    at 2π; at a cusp the point itself and the tangent from just inside."""
+def _end_angles(theta: float, side: float, one_sided: bool) -> tuple[float, float]:
+    """The cam angles of an end's point and of its unit travel tangent: a one-sided limit at a corner or
+    at 2π (both :data:`LEFT_LIMIT_RAD` before it on the left, at it on the right); at a cusp the point
+    itself and the tangent from just inside (1e-7 rad)."""
     if one_sided or theta == 0.0:
-        point, tangent, _ = curve.left(theta) if side < 0 else curve.right(theta)
-        return point, tangent
-    x, y, _, _, _ = curve.travel(np.array([theta]))
-    _, _, tx, ty, _ = curve.travel(np.array([theta + side * 1e-7]))
-    return np.array([x[0], y[0]]), np.array([tx[0], ty[0]])
+        at = theta - LEFT_LIMIT_RAD if side < 0 else theta
+        return at, at
+    return theta, theta + side * 1e-7
 
 
 def _corner(curve: OffsetCurve, theta: float, budget: Budget) -> list[Element]:
@@ -318,16 +325,18 @@ def _corner(curve: OffsetCurve, theta: float, budget: Budget) -> list[Element]:
 @dataclass(frozen=True)
 class BaseOnGrid:
     """A cam's base curve on its check grid (:func:`camcore.profile.checks.check_grid`): what the
-    scans of one wall share."""
+    scans of one wall share, the coefficients a and b of :func:`.offset.base_curve` (the scans read
+    no point)."""
 
     grid: FloatArray
-    base: BaseSample
+    a: FloatArray
+    b: FloatArray
 
     @classmethod
     def of(cls, spec: CamSpec) -> BaseOnGrid:
         """The base curve of ``spec`` on its check grid."""
         grid = check_grid(spec)
-        return cls(grid, base_curve(spec, grid))
+        return cls(grid, *base_stretch(spec, grid))
 
 
 def _wall_extremes(spec: CamSpec, w: float, eps: float, on_grid: BaseOnGrid
@@ -335,14 +344,15 @@ def _wall_extremes(spec: CamSpec, w: float, eps: float, on_grid: BaseOnGrid
     """The wall's worst shrink (−(a + w·b), scaled: ≥ 0 where it loops) and its largest curvature
     concave towards the tool on side ε, each with its cam angle [rad]: one scan of the check grid
     refines both, one evaluation of the base curve per round for the two."""
-    scale = float(np.abs(on_grid.base.a).max())
+    scale = float(np.abs(on_grid.a).max())
 
-    def both(b: BaseSample) -> FloatArray:
-        stretch = b.a + w * b.b
+    def both(a: FloatArray, b: FloatArray) -> FloatArray:
+        stretch = a + w * b
         with np.errstate(divide="ignore", invalid="ignore"):  # a looping wall's stretch passes 0: refused below
-            return np.stack([-stretch / scale, -eps * b.b / stretch])
+            return np.stack([-stretch / scale, -eps * b / stretch])
 
-    undercut, concave = periodic_grid_maxima(lambda t: both(base_curve(spec, t)), on_grid.grid, both(on_grid.base))
+    undercut, concave = periodic_grid_maxima(lambda t: both(*base_stretch(spec, t)), on_grid.grid,
+                                             both(on_grid.a, on_grid.b))
     return undercut, concave
 
 
@@ -415,8 +425,8 @@ def _concave_radius(concave: tuple[float, float], w: float, eps: float, corner_r
 
 def _cusps(spec: CamSpec, d: float, on_grid: BaseOnGrid) -> list[float]:
     """Cam angles where the offset turns back (its stretch a + d·b changes sign), at breaks too."""
-    def stretch(b: BaseSample) -> FloatArray:
-        return b.a + d * b.b
+    def stretch(a: FloatArray, b: FloatArray) -> FloatArray:
+        return a + d * b
 
-    roots, _values = scan_roots(lambda t: stretch(base_curve(spec, t)), on_grid.grid, stretch(on_grid.base))
+    roots, _values = scan_roots(lambda t: stretch(*base_stretch(spec, t)), on_grid.grid, stretch(on_grid.a, on_grid.b))
     return [r for r in roots if 0.0 < r < TWO_PI]

@@ -18,19 +18,22 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import TypeVar
 
 import numpy as np
 
 from ..curves.base import FloatArray
 from ..deadline import checkpoint
 from ..errors import GeometryError, LimitExceededError
-from .geometry import Element, biarc, pair_distance
+from .geometry import Biarc, Element, biarc, biarc_of, pair_distance
 from .measure import Span, measure
 from .offset import OffsetCurve
 
 #: the greedy search aims at this fraction of the tolerance, so the measurement between the
 #: grid points (which the search does not see) rarely sends a biarc back
 AIM = 0.8
+#: what a trial of the greedy search fits (a biarc's numbers; anything in a test)
+Fit = TypeVar("Fit")
 #: a stretch narrower than this is closed with a line whatever it deviates (a cusp of a
 #: gouging path, where the tangent turns back): 1e-10 rad moves a point by ~1e-8 mm
 NARROWEST_RAD = 1e-10
@@ -118,13 +121,13 @@ def _greedy(curve: OffsetCurve, theta0: float, theta1: float, start: tuple[Float
     pts = np.column_stack([px, py])
     tan = np.column_stack([tx, ty])
 
-    def trial(i: int, j: int) -> tuple[tuple[Element, ...] | None, float]:
-        """The biarc over grid steps i … j and its largest distance from their points (inf: none)."""
-        pair = biarc(pts[i], tan[i], pts[j], tan[j], float(theta[i]), float(theta[j]))
-        if pair is None:
+    def trial(i: int, j: int) -> tuple[Biarc | None, float]:
+        """The biarc over grid steps i … j and its largest distance from their points (inf: none); its
+        elements are made only for the one kept (:meth:`Biarc.distance` measures without them)."""
+        fit = biarc_of(pts[i], tan[i], pts[j], tan[j])
+        if fit is None:
             return None, math.inf
-        xs, ys = px[i:j + 1], py[i:j + 1]
-        return pair, float(pair_distance(pair, xs, ys).max())
+        return fit, float(fit.distance(px[i:j + 1], py[i:j + 1]).max())
 
     spans: list[Span] = []
     i, guess = 0, 8
@@ -136,15 +139,16 @@ def _greedy(curve: OffsetCurve, theta0: float, theta1: float, start: tuple[Float
                             aim_mm, budget)
             i += 1
             continue
-        budget.add(len(good_fit))
-        spans.append(Span(float(theta[i]), float(theta[good]), good_fit))
+        pair = good_fit.elements(float(theta[i]), float(theta[good]))
+        budget.add(len(pair))
+        spans.append(Span(float(theta[i]), float(theta[good]), pair))
         guess = max(1, good - i)
         i = good
     return spans
 
 
-def _farthest_fit(trial: Callable[[int, int], tuple[tuple[Element, ...] | None, float]], i: int, n: int, guess: int,
-                  aim_mm: float) -> tuple[int, tuple[Element, ...] | None]:
+def _farthest_fit(trial: Callable[[int, int], tuple[Fit | None, float]], i: int, n: int, guess: int,
+                  aim_mm: float) -> tuple[int, Fit | None]:
     """The farthest grid point j ≤ n whose biarc from i keeps within ``aim_mm``, where a biarc's distance
     grows with its length: j and its biarc (i and None when not even i + 1 fits).
 

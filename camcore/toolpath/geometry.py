@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -153,18 +154,36 @@ def pair_distance(pair: tuple[Element, Element], x: FloatArray, y: FloatArray) -
     first, second = pair
     if first.centre is None or second.centre is None:
         return np.minimum(first.distance(x, y), second.distance(x, y))
-    rows = []
-    for e in pair:
-        (sx, sy), (ex, ey), (cx, cy) = e.start, e.end, e.centre  # type: ignore[misc]  # arcs, by the test above
-        sweep = e.sweep_rad
-        rows.append((sx, sy, ex, ey, cx, cy, math.atan2(sy - cy, sx - cx), math.copysign(1.0, sweep), abs(sweep),
-                     e.radius_mm))
-    sx, sy, ex, ey, cx, cy, a0, sense, width, radius = np.array(rows).T[:, :, None]
-    to_ends = np.minimum(np.hypot(x - sx, y - sy), np.hypot(x - ex, y - ey))
-    rel = np.mod((np.arctan2(y - cy, x - cx) - a0) * sense, 2 * math.pi)
-    radial = np.abs(np.hypot(x - cx, y - cy) - radius)
+    # a biarc's joint ends the first arc and starts the second: its distances are taken once
+    ends = ((first.start, first.end, second.end) if first.end == second.start else
+            (first.start, first.end, second.start, second.end))
+    return _arcs_distance(ends, (_arc_row(first.start, first.end, first.centre, first.ccw),
+                                 _arc_row(second.start, second.end, second.centre, second.ccw)), x, y)
+
+
+def _arcs_distance(ends: tuple[tuple[float, float], ...], rows: tuple[tuple[float, ...], tuple[float, ...]],
+                   x: FloatArray, y: FloatArray) -> FloatArray:
+    """:func:`pair_distance` of two arcs from their ends (three: the joint shared) and their rows (:func:`_arc_row`)."""
+    corner = np.array(ends).T[:, :, None]
+    cx, cy, a0, sense, width, radius = np.array(rows).T[:, :, None]
+    to_end = np.hypot(x - corner[0], y - corner[1])
+    to_ends = np.minimum(to_end[:-1], to_end[1:]) if len(ends) == 3 else np.minimum(to_end[0::2], to_end[1::2])
+    dx, dy = x - cx, y - cy
+    rel = np.mod((np.arctan2(dy, dx) - a0) * sense, 2 * math.pi)
+    radial = np.abs(np.hypot(dx, dy) - radius)
     both = np.where(rel <= width, radial, to_ends)
     return np.minimum(both[0], both[1])
+
+
+def _arc_row(start: tuple[float, float], end: tuple[float, float], centre: tuple[float, float], ccw: bool
+             ) -> tuple[float, float, float, float, float, float]:
+    """An arc's centre, the angle of its start about the centre, the sign and size of its sweep and its
+    radius, each as :class:`Element`'s properties compute it."""
+    (sx, sy), (ex, ey), (cx, cy) = start, end, centre
+    a0 = math.atan2(sy - cy, sx - cx)
+    a1 = math.atan2(ey - cy, ex - cx)
+    sweep = (a1 - a0) % (2 * math.pi) if ccw else -((a0 - a1) % (2 * math.pi))
+    return cx, cy, a0, math.copysign(1.0, sweep), abs(sweep), math.hypot(sx - cx, sy - cy)
 
 
 def arc_through(start: FloatArray, tangent: FloatArray, end: FloatArray, theta0: float = 0.0,
@@ -192,16 +211,46 @@ def arc_through(start: FloatArray, tangent: FloatArray, end: FloatArray, theta0:
     signed curvature is 2 (t × c)/|c|² for the chord c.
     """
     chord = end - start
-    c2 = float(chord @ chord)
-    cross = float(tangent[0] * chord[1] - tangent[1] * chord[0])
     s, e = (float(start[0]), float(start[1])), (float(end[0]), float(end[1]))
-    if c2 == 0.0 or abs(cross) <= STRAIGHT * c2:
-        return Element(s, e, None, True, theta0, theta1)
-    curvature = 2.0 * cross / c2
+    centre, ccw = _centre(s, (float(tangent[0]), float(tangent[1])), e, float(chord @ chord))
+    return Element(s, e, centre, ccw, theta0, theta1)
+
+
+def _centre(start: tuple[float, float], tangent: tuple[float, float], end: tuple[float, float], chord2: float
+            ) -> tuple[tuple[float, float] | None, bool]:
+    """:func:`arc_through`'s centre (None: a line) and sense, from its chord's squared length ``chord2``
+    (numpy's dot product of the chord: a fused multiply-add that Python's floats have not)."""
+    cross = tangent[0] * (end[1] - start[1]) - tangent[1] * (end[0] - start[0])
+    if chord2 == 0.0 or abs(cross) <= STRAIGHT * chord2:
+        return None, True
+    curvature = 2.0 * cross / chord2
     # centre on the left of the tangent for a left turn (ccw), on the right for a right turn
-    cx = float(start[0]) - tangent[1] / curvature
-    cy = float(start[1]) + tangent[0] / curvature
-    return Element(s, e, (float(cx), float(cy)), curvature > 0, theta0, theta1)
+    return (start[0] - tangent[1] / curvature, start[1] + tangent[0] / curvature), curvature > 0
+
+
+class Biarc(NamedTuple):
+    """An equal-leg biarc as numbers (:func:`biarc_of`): its ends and joint [mm], each arc's centre
+    (None: a line) [mm] and sense as run from ``start`` to ``end`` (ccw, as G3)."""
+
+    start: tuple[float, float]
+    joint: tuple[float, float]
+    end: tuple[float, float]
+    centres: tuple[tuple[float, float] | None, tuple[float, float] | None]
+    ccw: tuple[bool, bool]
+
+    def elements(self, theta0: float = 0.0, theta1: float = 0.0) -> tuple[Element, Element]:
+        """The two elements, standing for cam angles θ0 … θ1 (the joint gets their mean) [rad]."""
+        mid = 0.5 * (theta0 + theta1)
+        return (Element(self.start, self.joint, self.centres[0], self.ccw[0], theta0, mid),
+                Element(self.joint, self.end, self.centres[1], self.ccw[1], mid, theta1))
+
+    def distance(self, x: FloatArray, y: FloatArray) -> FloatArray:
+        """:func:`pair_distance` of :meth:`elements` to the bit, without making them [mm]."""
+        (c0, c1), (ccw0, ccw1) = self.centres, self.ccw
+        if c0 is None or c1 is None:
+            return pair_distance(self.elements(), x, y)
+        return _arcs_distance((self.start, self.joint, self.end), (_arc_row(self.start, self.joint, c0, ccw0),
+                                                                   _arc_row(self.joint, self.end, c1, ccw1)), x, y)
 
 
 def biarc(p0: FloatArray, t0: FloatArray, p1: FloatArray, t1: FloatArray, theta0: float = 0.0,
@@ -228,6 +277,29 @@ def biarc(p0: FloatArray, t0: FloatArray, p1: FloatArray, t1: FloatArray, theta0
     Bolton (1975): legs of equal length d, |p1 − d t1 − (p0 + d t0)| = 2d, the joint
     halfway between the two leg ends; Meek and Walton (1992), G1 arc splines.
     """
+    found = biarc_of(p0, t0, p1, t1)
+    return None if found is None else found.elements(theta0, theta1)
+
+
+def biarc_of(p0: FloatArray, t0: FloatArray, p1: FloatArray, t1: FloatArray) -> Biarc | None:
+    """:func:`biarc` as numbers, without its elements (the greedy fit tries several per element it keeps).
+
+    Parameters
+    ----------
+    p0, p1 : ndarray
+        The ends (x, y) [mm].
+    t0, t1 : ndarray
+        Unit tangents at the ends, in the direction of travel [-].
+
+    Returns
+    -------
+    Biarc or None
+        The biarc, or None where no equal-leg biarc exists.
+
+    References
+    ----------
+    Bolton (1975), biarcs; Meek and Walton (1992), G1 arc splines.
+    """
     v = p1 - p0
     t = t0 + t1
     vt = float(v @ t)
@@ -245,30 +317,33 @@ def biarc(p0: FloatArray, t0: FloatArray, p1: FloatArray, t1: FloatArray, theta0
         return None
     if not (math.isfinite(d) and d > 0.0):
         return None
-    q0 = p0 + d * t0
-    q1 = p1 - d * t1
-    joint = 0.5 * (q0 + q1)
-    leg = q1 - q0
-    norm = math.hypot(float(leg[0]), float(leg[1]))
+    # from here Python floats: numpy's elementwise operations on two-vectors round as theirs do, at a
+    # fraction of the cost (the greedy fit builds a biarc per trial); the dot products stay numpy's
+    (x0, y0), (u0, w0), (x1, y1), (u1, w1) = p0.tolist(), t0.tolist(), p1.tolist(), t1.tolist()
+    q0x, q0y, q1x, q1y = x0 + d * u0, y0 + d * w0, x1 - d * u1, y1 - d * w1
+    joint = (0.5 * (q0x + q1x), 0.5 * (q0y + q1y))
+    norm = math.hypot(q1x - q0x, q1y - q0y)
     if norm == 0.0:
         return None
-    tm = leg / norm
-    mid = 0.5 * (theta0 + theta1)
-    first = arc_through(p0, t0, joint, theta0, mid)
-    # the second arc is the reversed arc from p1 leaving backwards along −t1: exact at p1
-    second = arc_through(p1, -t1, joint, theta1, mid).reversed()
-    if not _joins_along(second, joint, tm):
+    chord0 = np.array((joint[0] - x0, joint[1] - y0))
+    chord1 = np.array((joint[0] - x1, joint[1] - y1))
+    centre0, ccw0 = _centre((x0, y0), (u0, w0), joint, float(chord0 @ chord0))
+    # the second arc is the arc from p1 leaving backwards along −t1 (exact at p1), run forwards
+    centre1, ccw1 = _centre((x1, y1), (-u1, -w1), joint, float(chord1 @ chord1))
+    if not _leaves_along(joint, (x1, y1), centre1, not ccw1, ((q1x - q0x) / norm, (q1y - q0y) / norm)):
         return None
-    return first, second
+    return Biarc((x0, y0), joint, (x1, y1), (centre0, centre1), (ccw0, not ccw1))
 
 
-def _joins_along(element: Element, joint: FloatArray, tangent: FloatArray) -> bool:
-    """Whether ``element`` leaves ``joint`` along ``tangent`` (a sanity check of the construction)."""
-    if element.centre is None:
-        dx, dy = element.end[0] - element.start[0], element.end[1] - element.start[1]
+def _leaves_along(start: tuple[float, float], end: tuple[float, float], centre: tuple[float, float] | None, ccw: bool,
+                  tangent: tuple[float, float]) -> bool:
+    """Whether the element from ``start`` to ``end`` (about ``centre`` in sense ``ccw``; a line without
+    one) leaves its start along ``tangent`` (a sanity check of the construction)."""
+    if centre is None:
+        dx, dy = end[0] - start[0], end[1] - start[1]
     else:
-        rx, ry = element.start[0] - element.centre[0], element.start[1] - element.centre[1]
-        dx, dy = (-ry, rx) if element.ccw else (ry, -rx)
+        rx, ry = start[0] - centre[0], start[1] - centre[1]
+        dx, dy = (-ry, rx) if ccw else (ry, -rx)
     return bool(dx * tangent[0] + dy * tangent[1] > 0.0)
 
 
@@ -346,61 +421,74 @@ class ElementArrays:
         The elements; lane k of a query asks about ``elements[k]``.
     """
 
+    #: the rows of :attr:`table`, the ones a query reads together next to each other (a query gathers a
+    #: slice of rows in one operation: per operation, not per number, is what a gather costs here)
+    ROWS = ("a0", "sweep", "r", "cx", "cy", "sense", "width", "sx", "sy", "ex", "ey")
+
     def __init__(self, elements: list[Element]):
-        self.sx = np.array([e.start[0] for e in elements])
-        self.sy = np.array([e.start[1] for e in elements])
-        self.ex = np.array([e.end[0] for e in elements])
-        self.ey = np.array([e.end[1] for e in elements])
-        self.arc = np.array([e.centre is not None for e in elements], dtype=bool)
-        self.cx = np.array([e.centre[0] if e.centre is not None else 0.0 for e in elements])
-        self.cy = np.array([e.centre[1] if e.centre is not None else 0.0 for e in elements])
-        self.r = np.array([e.radius_mm if e.centre is not None else 0.0 for e in elements])
-        self.a0 = np.arctan2(self.sy - self.cy, self.sx - self.cx)
-        self.sweep = np.array([e.sweep_rad for e in elements])
+        # one pass over the elements, a row per quantity (a list per quantity cost ten passes)
+        given = np.array([(*e.start, *e.end, *(e.centre or (0.0, 0.0)), e.radius_mm if e.centre is not None else 0.0,
+                           e.sweep_rad, e.centre is not None) for e in elements], dtype=np.float64).reshape(-1, 9).T
+        sx, sy, ex, ey, cx, cy, r, sweep, arc = given
+        a0 = np.arctan2(sy - cy, sx - cx)
+        self.table = np.array([a0, sweep, r, cx, cy, np.where(sweep < 0, -1.0, 1.0), np.abs(sweep), sx, sy, ex, ey])
+        self.arc = arc > 0.0
+        # a fit of arcs only (or lines only) skips the other kind's formulas: a lane takes its own kind's
+        self.kinds = "arcs" if bool(self.arc.all()) else "lines" if not bool(self.arc.any()) else "both"
 
     def distance_slope(self, lane: np.ndarray, x: FloatArray, y: FloatArray, vx: FloatArray, vy: FloatArray
                        ) -> tuple[FloatArray, FloatArray]:
         """Distance of point i from element ``lane[i]`` [mm], and its rate as the point moves at
         (vx, vy): the velocity along the unit vector from the element's nearest point [mm per unit of
-        the velocity's parameter] (0 on the element)."""
-        sx, sy, ex, ey = self.sx[lane], self.sy[lane], self.ex[lane], self.ey[lane]
-        dx, dy = ex - sx, ey - sy
-        length2 = dx * dx + dy * dy
-        with np.errstate(invalid="ignore", divide="ignore"):
-            u = np.clip(np.where(length2 > 0, ((x - sx) * dx + (y - sy) * dy) / length2, 0.0), 0.0, 1.0)
-        # from the nearest point: the line's foot, the arc's centre (radially), or the nearer end
-        fx, fy = x - (sx + u * dx), y - (sy + u * dy)
-        line = np.hypot(fx, fy)
-        cx, cy, sweep = self.cx[lane], self.cy[lane], self.sweep[lane]
-        rel = np.mod((np.arctan2(y - cy, x - cx) - self.a0[lane]) * np.where(sweep < 0, -1.0, 1.0), 2 * math.pi)
-        to_start, to_end = np.hypot(x - sx, y - sy), np.hypot(x - ex, y - ey)
-        start_nearer = to_start <= to_end
+        the velocity's parameter] (0 on the element). ``lane`` may have rows (one element per row for
+        the same points), the answers then too."""
+        a0, _, r, cx, cy, sense, width, sx, sy, ex, ey = self.table[:, lane]
+        xs, ys, xe, ye = x - sx, y - sy, x - ex, y - ey  # each read by several quantities below
+        to_start, to_end = np.hypot(xs, ys), np.hypot(xe, ye)
         to_ends = np.minimum(to_start, to_end)
-        on_arc = rel <= np.abs(sweep)
-        rx, ry = x - cx, y - cy
-        radius = np.hypot(rx, ry)
-        arc = np.where(on_arc, np.abs(radius - self.r[lane]), to_ends)
-        is_arc = self.arc[lane]
-        distance = np.where(is_arc, arc, line)
         with np.errstate(invalid="ignore", divide="ignore"):
-            radial = np.sign(radius - self.r[lane]) * (rx * vx + ry * vy) / radius
-            end = np.where(start_nearer, (x - sx) * vx + (y - sy) * vy, (x - ex) * vx + (y - ey) * vy) / to_ends
-            slope = np.where(is_arc & on_arc, radial, np.where(is_arc, end, (fx * vx + fy * vy) / line))
+            # from the nearest point: the arc's centre (radially) or the nearer end; the line's foot
+            start_nearer = to_start <= to_end
+            end = (np.where(start_nearer, xs, xe) * vx + np.where(start_nearer, ys, ye) * vy) / to_ends
+            if self.kinds != "lines":
+                rx, ry = x - cx, y - cy
+                on_arc = np.mod((np.arctan2(ry, rx) - a0) * sense, 2 * math.pi) <= width
+                radius = np.hypot(rx, ry)
+                off = radius - r
+                arc = np.where(on_arc, np.abs(off), to_ends)
+                arc_slope = np.where(on_arc, np.sign(off) * (rx * vx + ry * vy) / radius, end)
+            if self.kinds != "arcs":
+                dx, dy = ex - sx, ey - sy
+                length2 = dx * dx + dy * dy
+                u = np.clip(np.where(length2 > 0, (xs * dx + ys * dy) / length2, 0.0), 0.0, 1.0)
+                fx, fy = x - (sx + u * dx), y - (sy + u * dy)
+                line = np.hypot(fx, fy)
+                line_slope = (fx * vx + fy * vy) / line
+        if self.kinds == "arcs":
+            distance, slope = arc, arc_slope
+        elif self.kinds == "lines":
+            distance, slope = line, line_slope
+        else:
+            is_arc = self.arc[lane]
+            distance, slope = np.where(is_arc, arc, line), np.where(is_arc, arc_slope, line_slope)
         return distance, np.where(distance > 0, slope, 0.0)
 
-    def velocity(self, lane: np.ndarray, u: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """d/du of :meth:`point` [mm]."""
-        a = self.a0[lane] + u * self.sweep[lane]
-        rs = self.r[lane] * self.sweep[lane]
-        arc = self.arc[lane]
-        return (np.where(arc, -rs * np.sin(a), self.ex[lane] - self.sx[lane]),
-                np.where(arc, rs * np.cos(a), self.ey[lane] - self.sy[lane]))
-
-    def point(self, lane: np.ndarray, u: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """The point a fraction ``u`` (0 … 1) along element ``lane[i]`` [mm]."""
-        sx, sy, ex, ey = self.sx[lane], self.sy[lane], self.ex[lane], self.ey[lane]
-        a = self.a0[lane] + u * self.sweep[lane]
-        r, cx, cy = self.r[lane], self.cx[lane], self.cy[lane]
-        arc = self.arc[lane]
-        return (np.where(arc, cx + r * np.cos(a), sx + u * (ex - sx)),
-                np.where(arc, cy + r * np.sin(a), sy + u * (ey - sy)))
+    def along(self, lane: np.ndarray, u: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """The point a fraction ``u`` (0 … 1) along element ``lane[i]`` [mm] and its velocity d/du [mm]
+        (one angle and its cosine and sine for both)."""
+        if self.kinds != "lines":
+            a0, sweep, r, cx, cy = self.table[:5, lane]
+            a = a0 + u * sweep
+            cos, sin = np.cos(a), np.sin(a)
+            rs = r * sweep
+            arc = cx + r * cos, cy + r * sin, -rs * sin, rs * cos
+        if self.kinds == "arcs":
+            return arc
+        sx, sy, ex, ey = self.table[7:, lane]
+        dx, dy = ex - sx, ey - sy
+        line = sx + u * dx, sy + u * dy, dx, dy
+        if self.kinds == "lines":
+            return line
+        is_arc = self.arc[lane]
+        x, y, vx, vy = (np.where(is_arc, of_arc, of_line) for of_arc, of_line in zip(arc, line))
+        return x, y, vx, vy

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Generator
 from dataclasses import dataclass
+from itertools import accumulate
 from typing import Any
 
 import numpy as np
@@ -134,11 +135,10 @@ def _lockstep(curve: OffsetCurve, walks: list[Walk]) -> list[Any]:
         keys = list(asked)
         shapes = [asked[k].shape for k in keys]
         sample = curve.sample(np.concatenate([asked[k].reshape(-1) for k in keys]))
-        cuts = np.cumsum([asked[k].size for k in keys])[:-1]
-        parts = [np.split(column, cuts) for column in sample]
+        ends = list(accumulate(asked[k].size for k in keys))
         asked = {}
-        for i, k in enumerate(keys):
-            advance(k, tuple(column[i].reshape(shapes[i]) for column in parts))  # type: ignore[arg-type]
+        for k, shape, lo, hi in zip(keys, shapes, [0, *ends], ends):  # each walk's slice (np.split's, without its cost)
+            advance(k, tuple(column[lo:hi].reshape(shape) for column in sample))  # type: ignore[arg-type]
     return results
 
 
@@ -151,8 +151,8 @@ def _curve_to_path(arrays: ElementArrays, first: IntArray, last: IntArray, theta
     def deviation(span: IntArray, sample: Sampled) -> tuple[FloatArray, FloatArray]:
         x, y, tx, ty, stretch = sample
         vx, vy = stretch * tx, stretch * ty  # dP/dθ
-        d0, s0 = arrays.distance_slope(first[span], x, y, vx, vy)
-        d1, s1 = arrays.distance_slope(last[span], x, y, vx, vy)
+        # both elements in one pass: row 0 the first, row 1 the last (their operations broadcast)
+        (d0, d1), (s0, s1) = arrays.distance_slope(np.stack([first[span], last[span]]), x, y, vx, vy)
         nearer = d1 < d0
         return np.where(nearer, d1, d0), np.where(nearer, s1, s0)
 
@@ -180,7 +180,7 @@ def _path_to_curve(arrays: ElementArrays, owner: IntArray, theta: FloatArray, sa
     frac = np.linspace(0.0, 1.0, m)
     lane = np.repeat(np.arange(count), m)
     u = np.tile(frac, count)
-    px, py = arrays.point(lane, u)
+    px, py, pvx, pvy = arrays.along(lane, u)
     near = _nearest_sample(theta, sampled[0], sampled[1], owner, px, py)
     # the first Gauss-Newton step from the nearest sample reads the sample itself: no new evaluation
     x, y, tx, ty, stretch = (column.reshape(theta.shape)[owner[lane], near] for column in sampled)
@@ -188,23 +188,23 @@ def _path_to_curve(arrays: ElementArrays, owner: IntArray, theta: FloatArray, sa
     lo_e, hi_e = lo[owner[lane]], hi[owner[lane]]
     distance, feet, toward = yield from _foot(px, py, _foot_step(t0, px, py, (x, y, tx, ty, stretch), lo_e, hi_e),
                                               lo_e, hi_e)
-    slope = _away_slope(toward, *arrays.velocity(lane, u))
+    slope = _away_slope(toward, pvx, pvy)
     samples = distance.reshape(count, m)
     result = samples.max(axis=1)
     rows, a_col, b_col, slope_a, slope_b = _brackets(np.tile(frac, (count, 1)), samples, slope.reshape(count, m))
     a, b = frac[a_col], frac[b_col]
     # the feet at the brackets' ends, whose interpolation starts each next foot (a step or two from it)
     foot_a, foot_b = feet.reshape(count, m)[rows, a_col], feet.reshape(count, m)[rows, b_col]
+    lane_lo, lane_hi = lo[owner[rows]], hi[owner[rows]]  # each climbing lane's span
 
     def probe(uu: FloatArray, lanes: IntArray, ua: FloatArray, ub: FloatArray, fa: FloatArray, fb: FloatArray
               ) -> Generator[FloatArray, Sampled, tuple[FloatArray, FloatArray, FloatArray]]:
-        element = rows[lanes]
-        qx, qy = arrays.point(element, uu)
-        w = np.divide(uu - ua, ub - ua, out=np.zeros_like(uu), where=ub > ua)
-        span_lo, span_hi = lo[owner[element]], hi[owner[element]]
+        qx, qy, qvx, qvy = arrays.along(rows[lanes], uu)
+        w = np.divide(uu - ua, ub - ua, out=np.zeros(uu.shape), where=ub > ua)
+        span_lo, span_hi = lane_lo[lanes], lane_hi[lanes]
         start = np.clip(fa + w * (fb - fa), span_lo, span_hi)
         d, foot, toward = yield from _foot(qx, qy, start, span_lo, span_hi)
-        return d, _away_slope(toward, *arrays.velocity(element, uu)), foot
+        return d, _away_slope(toward, qvx, qvy), foot
 
     top = yield from _climb(a, b, slope_a, slope_b, foot_a, foot_b, probe)
     np.maximum.at(result, rows, top)
@@ -272,30 +272,34 @@ def _climb(a: FloatArray, b: FloatArray, slope_a: FloatArray, slope_b: FloatArra
     per lane (−inf: none)."""
     a, b, sa, sb, aux_a, aux_b = (np.array(v, dtype=np.float64) for v in (a, b, slope_a, slope_b, aux_a, aux_b))
     best = np.full(a.size, -np.inf)
-    kept = np.zeros(a.size, dtype=np.int8)  # the end kept last: −1 a, +1 b
     active = np.arange(a.size)
+    # the state of the lanes still climbing, in the order of ``active`` (no gathers and scatters of the
+    # whole state per step): the end kept last (−1 a, +1 b) and the best value probed
+    kept = np.zeros(a.size, dtype=np.int8)
+    top = best.copy()
     for _ in range(CLIMB_STEPS):
         if not active.size:
             break
-        aa, bb, fa, fb = a[active], b[active], sa[active], sb[active]
         with np.errstate(invalid="ignore", divide="ignore"):
-            x = bb - fb * (bb - aa) / (fb - fa)
+            x = b - sb * (b - a) / (sb - sa)
         # a step outside the bracket (rounding at its ends) bisects it
-        x = np.where((x > aa) & (x < bb), x, 0.5 * (aa + bb))
-        value, slope, aux = yield from probe(x, active, aa, bb, aux_a[active], aux_b[active])
-        best[active] = np.fmax(best[active], value)
+        x = np.where((x > a) & (x < b), x, 0.5 * (a + b))
+        value, slope, aux = yield from probe(x, active, a, b, aux_a, aux_b)
+        top = np.fmax(top, value)
         down = slope < 0  # x is past the top: the new b
         up = slope > 0
         # Illinois: an end kept twice running has its slope halved, so the other end moves next
-        sa[active] = np.where(down & (kept[active] == -1), 0.5 * fa, np.where(up, slope, fa))
-        sb[active] = np.where(up & (kept[active] == 1), 0.5 * fb, np.where(down, slope, fb))
-        a[active] = np.where(up, x, aa)
-        b[active] = np.where(down, x, bb)
-        aux_a[active] = np.where(up, aux, aux_a[active])
-        aux_b[active] = np.where(down, aux, aux_b[active])
-        kept[active] = np.where(down, -1, np.where(up, 1, 0))
-        done = ~(np.abs(slope) * (b[active] - a[active]) > CLIMB_GAIN_MM)  # a NaN slope stops too
-        active = active[~done]
+        sa = np.where(down & (kept == -1), 0.5 * sa, np.where(up, slope, sa))
+        sb = np.where(up & (kept == 1), 0.5 * sb, np.where(down, slope, sb))
+        a, b = np.where(up, x, a), np.where(down, x, b)
+        aux_a, aux_b = np.where(up, aux, aux_a), np.where(down, aux, aux_b)
+        kept = np.where(down, -1, np.where(up, 1, 0))
+        going = np.abs(slope) * (b - a) > CLIMB_GAIN_MM  # a NaN slope stops too
+        if not going.all():
+            best[active[~going]] = top[~going]
+            active, kept = active[going], kept[going]
+            a, b, sa, sb, aux_a, aux_b, top = (v[going] for v in (a, b, sa, sb, aux_a, aux_b, top))
+    best[active] = top
     return best
 
 
@@ -334,8 +338,10 @@ def _foot(px: FloatArray, py: FloatArray, theta: FloatArray, lo: FloatArray, hi:
 
 def _local_maxima(samples: FloatArray) -> tuple[np.ndarray, np.ndarray]:
     """Row and column of every sample not below its neighbours (the ends included)."""
-    padded = np.pad(samples, ((0, 0), (1, 1)), constant_values=-np.inf)
-    peak = (samples >= padded[:, :-2]) & (samples >= padded[:, 2:])
+    # as against neighbours padded with −inf (each end has one neighbour; a NaN is no peak), without np.pad
+    peak = samples >= -np.inf
+    peak[:, 1:] &= samples[:, 1:] >= samples[:, :-1]
+    peak[:, :-1] &= samples[:, :-1] >= samples[:, 1:]
     rows, cols = np.nonzero(peak)
     return rows, cols
 
@@ -348,5 +354,8 @@ def _nearest_sample(theta: FloatArray, cx: FloatArray, cy: FloatArray, owner: In
     sx, sy = cx.reshape(-1, m)[owner], cy.reshape(-1, m)[owner]  # each element's span's samples
     ex, ey = px.reshape(owner.size, -1), py.reshape(owner.size, -1)
     dx, dy = sx[:, None, :] - ex[:, :, None], sy[:, None, :] - ey[:, :, None]
-    k: IntArray = np.argmin(dx * dx + dy * dy, axis=2)  # the squares order as the distances do, at a third of hypot's cost
+    # the squares order as the distances do, at a third of hypot's cost; in place: the arrays are large
+    np.multiply(dx, dx, out=dx)
+    np.multiply(dy, dy, out=dy)
+    k: IntArray = np.argmin(np.add(dx, dy, out=dx), axis=2)
     return k.reshape(-1)

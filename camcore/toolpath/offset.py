@@ -79,29 +79,61 @@ def base_curve(spec: CamSpec, theta: FloatArray) -> BaseSample:
     Shinzato and Kunigami (1988) (kinematic inversion); Farouki and Neff (1990), offset curves.
     """
     theta = np.asarray(theta, dtype=np.float64)
+    a, b, frame = _coefficients(spec, theta, True)
+    assert frame is not None  # asked for
+    bx, by, nx, ny = frame
+    back = -spec.sigma * theta
+    (bx, by), (nx, ny) = rotate_all(back, (bx, by), (nx, ny))
+    return BaseSample(theta, bx, by, nx, ny, a, b)
+
+
+def base_stretch(spec: CamSpec, theta: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The coefficients a, b of :func:`base_curve` alone (what a wall's scans for its undercut, its
+    curvature and its cusps read), without the point and normal or their turn into the cam's frame.
+
+    Parameters
+    ----------
+    spec : CamSpec
+        The cam: follower, base radius, rotation and lift.
+    theta : ndarray
+        Cam angles θ [rad].
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        a [mm/rad] and b [1/rad] at each angle: :func:`base_curve`'s numbers to the bit.
+
+    References
+    ----------
+    Farouki and Neff (1990), offset curves: the offset's stretch a + d·b.
+    """
+    a, b, _ = _coefficients(spec, np.asarray(theta, dtype=np.float64), False)
+    return a, b
+
+
+def _coefficients(spec: CamSpec, theta: FloatArray, frame: bool
+                  ) -> tuple[FloatArray, FloatArray, tuple[FloatArray, FloatArray, FloatArray, FloatArray] | None]:
+    """a, b and, if ``frame``, the point and the outward normal before their turn by −σθ."""
     sg, rb = spec.sigma, spec.base_radius_mm
     model = spec.model
     h, h1, h2 = spec.lift.derivatives(theta, 2)
     if model.flat_faced:
         p, p1, p2, phi1, phi2, mx, my = model.support(rb, sg, h, h1, h2)  # type: ignore[attr-defined]
         rho = p + (p2 * phi1 - p1 * phi2) / phi1**3
-        p_phi = p1 / phi1
-        bx, by = p * mx - p_phi * my, p * my + p_phi * mx
-        nx, ny = mx, my
         a, b = -sg * phi1 * rho, -sg * phi1
-    else:
-        cx, cy, c1x, c1y, c2x, c2y, _vx, _vy = model.pitch_point(rb, h, h1, h2)  # type: ignore[attr-defined]
-        # u1 = c' − σ J c and u2 = c'' − 2σ J c' − c, the cam-frame derivatives turned back (camcore.profile.cam)
-        u1x, u1y = c1x + sg * cy, c1y - sg * cx
-        u2x, u2y = c2x + 2 * sg * c1y - cx, c2y - 2 * sg * c1x - cy
-        speed = np.hypot(u1x, u1y)
-        bx, by = cx, cy
-        nx, ny = -sg * u1y / speed, sg * u1x / speed
-        a = speed
-        b = -sg * (u1x * u2y - u1y * u2x) / speed**2  # κp·|u1|
-    back = -sg * theta
-    (bx, by), (nx, ny) = rotate_all(back, (bx, by), (nx, ny))
-    return BaseSample(theta, bx, by, nx, ny, a, b)
+        if not frame:
+            return a, b, None
+        p_phi = p1 / phi1
+        return a, b, (p * mx - p_phi * my, p * my + p_phi * mx, mx, my)
+    cx, cy, c1x, c1y, c2x, c2y, _vx, _vy = model.pitch_point(rb, h, h1, h2)  # type: ignore[attr-defined]
+    # u1 = c' − σ J c and u2 = c'' − 2σ J c' − c, the cam-frame derivatives turned back (camcore.profile.cam)
+    u1x, u1y = c1x + sg * cy, c1y - sg * cx
+    u2x, u2y = c2x + 2 * sg * c1y - cx, c2y - 2 * sg * c1x - cy
+    speed = np.hypot(u1x, u1y)
+    b = -sg * (u1x * u2y - u1y * u2x) / speed**2  # κp·|u1|
+    if not frame:
+        return speed, b, None
+    return speed, b, (cx, cy, -sg * u1y / speed, sg * u1x / speed)
 
 
 class OffsetCurve:
