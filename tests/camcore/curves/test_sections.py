@@ -14,6 +14,7 @@ import pytest
 
 import camcore
 from camcore.curves.catalog import CATALOG
+from camcore.curves.reverse import ReturnCurve
 from camcore.curves.sections import SectionCurve, half_angle_bases
 
 EPS = float(np.finfo(np.float64).eps)
@@ -64,6 +65,19 @@ def test_sorted_table_and_any_order_give_the_same_numbers(name: str) -> None:
     shuffled = curve.derivatives(t[order], 4)
     for k, (a, b) in enumerate(zip(table, shuffled)):
         assert np.array_equal(a[order], b), f"{name}: derivative {k} differs between the sorted and gathered paths"
+
+
+@pytest.mark.parametrize("name", sorted(CATALOG))
+def test_a_returns_sorted_table_is_its_gathered_numbers_to_the_bit(name: str) -> None:
+    """A return (Makino's INIT = 2) evaluates a table with its rise's own piece path, run backwards over
+    the mirrored times: every number, −0.0 apart from +0.0, is the gathered path's."""
+    curve = ReturnCurve(camcore.named_curve(name))
+    t = np.unique(np.concatenate([np.linspace(curve.t_start, curve.t_end, 40_001), curve.break_points,
+                                  np.nextafter(curve.piece_starts, -np.inf)]))
+    t = t[(t >= curve.t_start) & (t <= curve.t_end)]
+    gathered = curve._derivatives_gathered(t, 4)
+    for k, (a, b) in enumerate(zip(curve.derivatives(t, 4), gathered)):
+        assert a.view(np.int64).tolist() == b.view(np.int64).tolist(), f"{name}: derivative {k}"
 
 
 def test_section_curves_use_the_sliced_path_for_tables() -> None:
