@@ -42,15 +42,6 @@ class ReturnCurve(Curve):
         # 0 − x, not −x: a rise at rest (V = +0) gives a return at rest, not at −0
         return [v if i % 2 == 0 else 0.0 - v for i, v in enumerate(vals)]
 
-    def eval_piece(self, t: FloatArray, k: int, order: int, out: list[FloatArray],
-                   work: FloatArray | None = None) -> None:
-        # the rise's own piece path (its scalar coefficients, the same numbers as its gather) at the
-        # mirrored times, which fall as t rises: run backwards, so the rise sees them sorted
-        backwards = [o[::-1] for o in out]
-        self.rise.eval_piece((self._mirror - t)[::-1], self.rise.n_pieces - 1 - k, order, backwards, work)
-        for odd in out[1::2]:
-            np.subtract(0.0, odd, out=odd)  # 0 − x, as eval_pieces: a rise at rest gives a return at rest
-
     def eval_point(self, t: float, k: int) -> list[float]:
         # the rise's scalar formulas at the same mirrored time and piece as eval_pieces: the same bits
         vals = self.rise.eval_point(self._mirror - t, self.rise.n_pieces - 1 - k)
