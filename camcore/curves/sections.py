@@ -268,6 +268,8 @@ class SectionCurve(SectionColumns, Curve):
         the end by a few ulps (V = 2.8e-16 at T = 1 for MS).
     """
 
+    has_piece_path = True  # eval_piece: the section's scalar coefficients, no gather
+
     def __init__(self, sections: list[Section], s0: float, v0: float,
                  s_end: float | None = None, v_end: float | None = None):
         kept = [sec for sec in sections if sec.length > 0]
