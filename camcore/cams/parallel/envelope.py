@@ -92,9 +92,13 @@ def envelope(cam: ParallelCam, alpha0: FloatArray | float, side: FloatArray | fl
     Shinzato and Kunigami (1988), the oscillating roller follower; Farouki and Neff (1990),
     the offset's speed and curvature.
     """
-    alpha0, side, tau = np.broadcast_arrays(np.asarray(alpha0, dtype=np.float64), np.asarray(side, dtype=np.float64),
-                                            np.asarray(tau, dtype=np.float64))
+    alpha0, side, tau = _together(alpha0, side, tau)
     return _on_side(cam, _roller(cam, alpha0, tau), side)
+
+
+def _together(*values: FloatArray | float) -> tuple[FloatArray, ...]:
+    """Arm angles, sides and cam angles as float arrays of one shape (broadcast)."""
+    return tuple(np.broadcast_arrays(*(np.asarray(v, dtype=np.float64) for v in values)))
 
 
 def both_sides(cam: ParallelCam, alpha0: FloatArray | float, tau: FloatArray) -> EnvelopePoints:
@@ -118,7 +122,7 @@ def both_sides(cam: ParallelCam, alpha0: FloatArray | float, tau: FloatArray) ->
     ----------
     Farouki and Neff (1990): the two offsets of one curve.
     """
-    alpha0, tau = np.broadcast_arrays(np.asarray(alpha0, dtype=np.float64), np.asarray(tau, dtype=np.float64))
+    alpha0, tau = _together(alpha0, tau)
     state = _roller(cam, alpha0, tau)
     stacked = tuple(np.stack([v, v]) for v in state)
     side = np.broadcast_to(np.array([-1.0, 1.0]).reshape((2,) + (1,) * alpha0.ndim), (2, *alpha0.shape))
@@ -197,8 +201,7 @@ def track(cam: ParallelCam, alpha0: FloatArray | float, side: FloatArray | float
     ----------
     Farouki and Neff (1990), the offset's speed.
     """
-    alpha0, side, tau = np.broadcast_arrays(np.asarray(alpha0, dtype=np.float64), np.asarray(side, dtype=np.float64),
-                                            np.asarray(tau, dtype=np.float64))
+    alpha0, side, tau = _together(alpha0, side, tau)
     px, py, tx, ty, speed, _, kappa_pitch = _roller(cam, alpha0, tau, pressure=False)
     rr = cam.roller_radius_mm
     kappa = -side * kappa_pitch
