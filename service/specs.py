@@ -144,6 +144,8 @@ class DefaultsInDescriptions(DeferredModel):
 SLOWEST_RPM = 1e-6
 #: a camshaft or input speed [rpm]
 SpeedRpm = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=SLOWEST_RPM, le=BIG)]
+#: one camshaft turn [s]: 60/N of a speed within SpeedRpm's bounds (a subnormal time made the speed inf)
+CycleTimeS = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=60.0 / BIG, le=60.0 / SLOWEST_RPM)]
 
 #: the smallest normal double; a nonzero number below it in magnitude is subnormal
 SMALLEST_NORMAL = sys.float_info.min

@@ -22,6 +22,7 @@ from service.profiles.specs import ROLLER_PROFILE_EXAMPLE
 from service.specs import (
     BIG,
     JSON_INTEGER,
+    CycleTimeS,
     DeferredModel,
     FieldRuleError,
     Finite,
@@ -218,7 +219,7 @@ class MasterSpec(Spec):
     model_config = examples({"speed_rpm": 120}, rules=[rule("give exactly one of speed_rpm and cycle_time_s",
                                                             exactly_one("speed_rpm", "cycle_time_s"))])
     speed_rpm: SpeedRpm | None = Field(None, description="N [rpm]")
-    cycle_time_s: Positive | None = Field(None, description="one turn, 60/N [s]")
+    cycle_time_s: CycleTimeS | None = Field(None, description="one turn, 60/N [s]")
 
     @model_validator(mode="after")
     def _one(self) -> MasterSpec:
