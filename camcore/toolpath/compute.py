@@ -39,7 +39,7 @@ from ..profile.checks import check_grid, corners
 from ..profile.lift import TWO_PI
 from .fit import Budget, fit_stretch
 from .geometry import Element, corner_arc, path_area
-from .offset import LEFT_LIMIT_RAD, OffsetCurve, base_stretch, corner_turn
+from .offset import LEFT_LIMIT_RAD, OffsetCurve, base_stretch, corner_turn, one_sided
 
 Side = Literal["outside", "inside", "groove"]
 SIDES: tuple[str, ...] = ("outside", "inside", "groove")
@@ -249,7 +249,7 @@ def _path(spec: CamSpec, wall: str, w: float, eps: float, rt: float, tol: float,
     bounds = sorted({0.0, TWO_PI, *[c for c in corner_rad if c > 0.0], *_cusps(spec, d, on_grid)})
     # the joins' one-sided limits sit LEFT_LIMIT_RAD before their break: that far apart, times
     # the path's speed there (about its radius), so the gap they leave grows with the cam's size
-    joins = [b - LEFT_LIMIT_RAD for b in bounds[1:] if b in turns or b == TWO_PI]
+    joins = [one_sided(b, -1.0) for b in bounds[1:] if b in turns or b == TWO_PI]
     # every stretch's ends and the joins' speed from one evaluation of the curve (mostly its fixed cost)
     ends = [(_end_angles(bounds[k], +1.0, bounds[k] in turns),
              _end_angles(bounds[k + 1], -1.0, bounds[k + 1] in turns or bounds[k + 1] == TWO_PI))
@@ -300,12 +300,12 @@ def _closed(elements: list[Element], max_gap_mm: float) -> list[Element]:
     return out
 
 
-def _end_angles(theta: float, side: float, one_sided: bool) -> tuple[float, float]:
+def _end_angles(theta: float, side: float, limit: bool) -> tuple[float, float]:
     """The cam angles of an end's point and of its unit travel tangent: a one-sided limit at a corner or
-    at 2π (both :data:`LEFT_LIMIT_RAD` before it on the left, at it on the right); at a cusp the point
-    itself and the tangent from just inside (1e-7 rad)."""
-    if one_sided or theta == 0.0:
-        at = theta - LEFT_LIMIT_RAD if side < 0 else theta
+    at 2π (``limit``, :func:`.offset.one_sided`, both at it); at a cusp the point itself and the tangent
+    from just inside (1e-7 rad)."""
+    if limit or theta == 0.0:
+        at = one_sided(theta, side)
         return at, at
     return theta, theta + side * 1e-7
 

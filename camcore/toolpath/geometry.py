@@ -61,10 +61,7 @@ class Element:
         """Signed angle the arc turns through, positive counter-clockwise (0 for a line) [rad]."""
         if self.centre is None:
             return 0.0
-        cx, cy = self.centre
-        a0 = math.atan2(self.start[1] - cy, self.start[0] - cx)
-        a1 = math.atan2(self.end[1] - cy, self.end[0] - cx)
-        return (a1 - a0) % (2 * math.pi) if self.ccw else -((a0 - a1) % (2 * math.pi))
+        return _sweep(self.start, self.end, self.centre, self.ccw)
 
     @property
     def length_mm(self) -> float:
@@ -95,22 +92,15 @@ class Element:
         """Distance of the points (x, y) from the element (not its full line or circle) [mm]."""
         sx, sy = self.start
         ex, ey = self.end
-        to_ends = np.minimum(np.hypot(x - sx, y - sy), np.hypot(x - ex, y - ey))
         if self.centre is None:
             dx, dy = ex - sx, ey - sy
             length2 = dx * dx + dy * dy
             if length2 == 0.0:
-                return to_ends
+                return np.minimum(np.hypot(x - sx, y - sy), np.hypot(x - ex, y - ey))
             u = np.clip(((x - sx) * dx + (y - sy) * dy) / length2, 0.0, 1.0)
             return np.hypot(x - (sx + u * dx), y - (sy + u * dy))
-        cx, cy = self.centre
-        a0 = math.atan2(sy - cy, sx - cx)
-        sweep = self.sweep_rad
-        # angle of each point from the start, measured in the arc's sense, in [0, 2π)
-        rel = np.mod((np.arctan2(y - cy, x - cx) - a0) * math.copysign(1.0, sweep), 2 * math.pi)
-        on_arc = rel <= abs(sweep)
-        radial = np.abs(np.hypot(x - cx, y - cy) - self.radius_mm)
-        return np.where(on_arc, radial, to_ends)
+        return _arcs_distance((self.start, self.end), (_arc_row(self.start, self.end, self.centre, self.ccw),),
+                              x, y)[0]
 
     def extreme_points(self) -> list[tuple[float, float]]:
         """The ends and, for an arc, its points farthest along ±x and ±y (its bounding box) [mm]."""
@@ -157,69 +147,54 @@ def pair_distance(pair: tuple[Element, Element], x: FloatArray, y: FloatArray) -
     # a biarc's joint ends the first arc and starts the second: its distances are taken once
     ends = ((first.start, first.end, second.end) if first.end == second.start else
             (first.start, first.end, second.start, second.end))
-    return _arcs_distance(ends, (_arc_row(first.start, first.end, first.centre, first.ccw),
+    both = _arcs_distance(ends, (_arc_row(first.start, first.end, first.centre, first.ccw),
                                  _arc_row(second.start, second.end, second.centre, second.ccw)), x, y)
+    return np.minimum(both[0], both[1])
 
 
-def _arcs_distance(ends: tuple[tuple[float, float], ...], rows: tuple[tuple[float, ...], tuple[float, ...]],
+def _arcs_distance(ends: tuple[tuple[float, float], ...], rows: tuple[tuple[float, ...], ...],
                    x: FloatArray, y: FloatArray) -> FloatArray:
-    """:func:`pair_distance` of two arcs from their ends (three: the joint shared) and their rows (:func:`_arc_row`)."""
+    """Distance of the points (x, y) from each of some arcs, a row per arc (:func:`_arc_row`): radial where
+    the point's angle about the centre is within the sweep, else to the nearer end. ``ends``: one more
+    than the arcs when each starts where the one before ends (a joint's distance taken once), else two
+    per arc."""
     corner = np.array(ends).T[:, :, None]
     cx, cy, a0, sense, width, radius = np.array(rows).T[:, :, None]
     to_end = np.hypot(x - corner[0], y - corner[1])
-    to_ends = np.minimum(to_end[:-1], to_end[1:]) if len(ends) == 3 else np.minimum(to_end[0::2], to_end[1::2])
+    chained = len(ends) == len(rows) + 1
+    to_ends = np.minimum(to_end[:-1], to_end[1:]) if chained else np.minimum(to_end[0::2], to_end[1::2])
     dx, dy = x - cx, y - cy
+    # angle of each point from the start, measured in the arc's sense, in [0, 2π)
     rel = np.mod((np.arctan2(dy, dx) - a0) * sense, 2 * math.pi)
     radial = np.abs(np.hypot(dx, dy) - radius)
-    both = np.where(rel <= width, radial, to_ends)
-    return np.minimum(both[0], both[1])
+    return np.where(rel <= width, radial, to_ends)
 
 
 def _arc_row(start: tuple[float, float], end: tuple[float, float], centre: tuple[float, float], ccw: bool
              ) -> tuple[float, float, float, float, float, float]:
-    """An arc's centre, the angle of its start about the centre, the sign and size of its sweep and its
-    radius, each as :class:`Element`'s properties compute it."""
+    """An arc's centre, the angle of its start about the centre, the sign and size of its sweep (turning
+    counter-clockwise when ``ccw``) and its radius: the one definition :class:`Element`'s properties and
+    the distances read."""
+    (sx, sy), (cx, cy) = start, centre
+    sweep = _sweep(start, end, centre, ccw)
+    return cx, cy, math.atan2(sy - cy, sx - cx), math.copysign(1.0, sweep), abs(sweep), math.hypot(sx - cx, sy - cy)
+
+
+def _sweep(start: tuple[float, float], end: tuple[float, float], centre: tuple[float, float], ccw: bool) -> float:
+    """The signed angle an arc turns through from ``start`` to ``end`` about ``centre``, positive
+    counter-clockwise, in the arc's sense (``ccw``) [rad]."""
     (sx, sy), (ex, ey), (cx, cy) = start, end, centre
     a0 = math.atan2(sy - cy, sx - cx)
     a1 = math.atan2(ey - cy, ex - cx)
-    sweep = (a1 - a0) % (2 * math.pi) if ccw else -((a0 - a1) % (2 * math.pi))
-    return cx, cy, a0, math.copysign(1.0, sweep), abs(sweep), math.hypot(sx - cx, sy - cy)
-
-
-def arc_through(start: FloatArray, tangent: FloatArray, end: FloatArray, theta0: float = 0.0,
-                theta1: float = 0.0) -> Element:
-    """The arc from ``start`` leaving along the unit ``tangent`` to ``end`` (a line when
-    ``end`` lies on the tangent).
-
-    Parameters
-    ----------
-    start, end : ndarray
-        The ends (x, y) [mm].
-    tangent : ndarray
-        Unit tangent at ``start`` [-].
-    theta0, theta1 : float
-        Cam angles of the curve the element stands for [rad].
-
-    Returns
-    -------
-    Element
-        The line or the arc.
-
-    References
-    ----------
-    Bolton (1975): an arc is fixed by one end, its tangent there and the other end; its
-    signed curvature is 2 (t × c)/|c|² for the chord c.
-    """
-    chord = end - start
-    s, e = (float(start[0]), float(start[1])), (float(end[0]), float(end[1]))
-    centre, ccw = _centre(s, (float(tangent[0]), float(tangent[1])), e, float(chord @ chord))
-    return Element(s, e, centre, ccw, theta0, theta1)
+    return (a1 - a0) % (2 * math.pi) if ccw else -((a0 - a1) % (2 * math.pi))
 
 
 def _centre(start: tuple[float, float], tangent: tuple[float, float], end: tuple[float, float], chord2: float
             ) -> tuple[tuple[float, float] | None, bool]:
-    """:func:`arc_through`'s centre (None: a line) and sense, from its chord's squared length ``chord2``
-    (numpy's dot product of the chord: a fused multiply-add that Python's floats have not)."""
+    """The centre (None: a line) and sense of the arc from ``start`` leaving along the unit ``tangent`` to
+    ``end``, from its chord's squared length ``chord2`` (numpy's dot product of the chord: a fused
+    multiply-add that Python's floats have not). Bolton (1975): an arc is fixed by one end, its
+    tangent there and the other end; its signed curvature is 2 (t × c)/|c|² for the chord c."""
     cross = tangent[0] * (end[1] - start[1]) - tangent[1] * (end[0] - start[0])
     if chord2 == 0.0 or abs(cross) <= STRAIGHT * chord2:
         return None, True
@@ -249,8 +224,9 @@ class Biarc(NamedTuple):
         (c0, c1), (ccw0, ccw1) = self.centres, self.ccw
         if c0 is None or c1 is None:
             return pair_distance(self.elements(), x, y)
-        return _arcs_distance((self.start, self.joint, self.end), (_arc_row(self.start, self.joint, c0, ccw0),
+        both = _arcs_distance((self.start, self.joint, self.end), (_arc_row(self.start, self.joint, c0, ccw0),
                                                                    _arc_row(self.joint, self.end, c1, ccw1)), x, y)
+        return np.minimum(both[0], both[1])
 
 
 def biarc(p0: FloatArray, t0: FloatArray, p1: FloatArray, t1: FloatArray, theta0: float = 0.0,

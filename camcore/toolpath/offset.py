@@ -179,12 +179,11 @@ class OffsetCurve:
 
     def left(self, theta: float) -> tuple[FloatArray, FloatArray, FloatArray]:
         """P, the unit travel tangent and the normal N just before θ (the left limit at a break)."""
-        t = np.array([theta - LEFT_LIMIT_RAD])
-        return self._one(t)
+        return self._one(np.array([one_sided(theta, -1.0)]))
 
     def right(self, theta: float) -> tuple[FloatArray, FloatArray, FloatArray]:
         """P, the unit travel tangent and the normal N at θ (the right limit at a break)."""
-        return self._one(np.array([theta]))
+        return self._one(np.array([one_sided(theta, +1.0)]))
 
     def _one(self, t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         base = base_curve(self.spec, t)  # once: the point, its travel tangent and the normal all read it
@@ -195,6 +194,28 @@ class OffsetCurve:
         """B(θ) [mm]."""
         base = base_curve(self.spec, np.array([theta]))
         return np.array([base.x[0], base.y[0]])
+
+
+def one_sided(theta: float, side: float) -> float:
+    """The cam angle a one-sided limit at a break θ is taken at.
+
+    Parameters
+    ----------
+    theta : float
+        The break [rad].
+    side : float
+        −1: the left limit, :data:`LEFT_LIMIT_RAD` before θ; +1: the right limit, θ itself [-].
+
+    Returns
+    -------
+    float
+        The angle [rad].
+
+    References
+    ----------
+    Farouki and Neff (1990): the offset of a curve with corners, taken each side of them.
+    """
+    return theta - LEFT_LIMIT_RAD if side < 0 else theta
 
 
 def corner_turn(spec: CamSpec, theta: float) -> float:
@@ -218,8 +239,8 @@ def corner_turn(spec: CamSpec, theta: float) -> float:
     ----------
     Farouki and Neff (1990): a convex curve's normal turns with its tangent, dN/ds = κ T.
     """
-    before = base_curve(spec, np.array([theta - LEFT_LIMIT_RAD]))
-    after = base_curve(spec, np.array([theta]))
+    before = base_curve(spec, np.array([one_sided(theta, -1.0)]))
+    after = base_curve(spec, np.array([one_sided(theta, +1.0)]))
     n0x, n0y, n1x, n1y = before.nx[0], before.ny[0], after.nx[0], after.ny[0]
     turn = math.atan2(n0x * n1y - n0y * n1x, n0x * n1x + n0y * n1y)
     # along a convex stretch N turns towards T = −σ J N, i.e. clockwise for σ = +1
