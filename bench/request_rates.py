@@ -11,6 +11,7 @@ indexer sizing (the request example). The base-circle sizing is timed one reques
 
 from __future__ import annotations
 
+import compileall
 import json
 import statistics
 import tempfile
@@ -20,7 +21,7 @@ from typing import Any
 
 import httpx
 
-from .servers import PINNING, WRK_MISSING, Server, have_wrk, wrk
+from .servers import PINNING, ROOT, WRK_MISSING, Server, have_wrk, wrk
 from .timing import figure
 
 #: a new curve per request: Makino's universal curve with MS's break points, T1 moved a little
@@ -128,7 +129,11 @@ def _write(tmp: Path, text: str) -> Path:
 
 def cold_start(runs: int) -> dict[str, Any]:
     """Seconds from starting ``python -m service`` (1 worker) to its first 200 on /health ÷ the
-    same for a bare FastAPI app under uvicorn, started alternately."""
+    same for a bare FastAPI app under uvicorn, started alternately, each from its bytecode."""
+    # as the image does (Dockerfile: compileall camcore service) and pip does for the libraries: with
+    # PYTHONDONTWRITEBYTECODE set, a checkout would otherwise compile its ~300 modules at every start
+    for package in ("camcore", "service", "bench"):
+        compileall.compile_dir(ROOT / package, quiet=1)
     ours, bare = [], []
     with_imports: dict[str, list[float]] = {"numpy": [], "camcore": []}
     for _ in range(runs):
@@ -149,7 +154,8 @@ def cold_start(runs: int) -> dict[str, Any]:
                   bare_importing_camcore_vs_bare=round(statistics.median(
                       c / b for c, b in zip(with_imports["camcore"], bare)), 3),
                   what="seconds from starting python -m service (1 worker) to its first 200 on /health ÷ the same "
-                       "for a bare FastAPI app with one route under uvicorn (bench/bare_app.py); two_workers_s: "
+                       "for a bare FastAPI app with one route under uvicorn (bench/bare_app.py), both from their "
+                       "bytecode (compiled first, as the image's build does); two_workers_s: "
                        "CAMCORE_WORKERS=2 once (both workers answer /health only once up; the first one counts); "
                        "bare_importing_*_vs_bare: the bare app importing numpy, or camcore, first ÷ the bare app "
                        "(what the service's own dependencies cost before any route exists)")
