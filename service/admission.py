@@ -38,8 +38,9 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 from camcore.deadline import Deadline, running_until
 from camcore.errors import WorkLimitError
 from camcore.work import WorkEstimate
-from service.errors import RETRY_AFTER_S, ServiceBusyError
+from service.errors import ServiceBusyError
 from service.settings import Settings
+from service.wire import RETRY_AFTER_S
 
 T = TypeVar("T")
 

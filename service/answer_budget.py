@@ -29,9 +29,10 @@ import orjson
 from starlette.responses import Response, StreamingResponse
 from starlette.types import Receive, Scope, Send
 
-from service.errors import RETRY_AFTER_S, ServiceBusyError
+from service.errors import ServiceBusyError
 from service.operations.answers import Answer, Document, Payload, Raw, Table, Text
 from service.responses import CHUNK_ROWS
+from service.wire import RETRY_AFTER_S
 
 #: a body over this is sent in pieces of this size, so that its sending lasts until it is out
 SEND_CHUNK_BYTES = 256 * 1024

@@ -37,6 +37,7 @@ from camcore.errors import (
 from service.middleware import ANSWERED_ERROR
 from service.responses import JSONBody
 from service.specs import FieldRuleError
+from service.wire import RETRY_AFTER_S
 
 logger = logging.getLogger("camcore.service")
 
@@ -54,9 +55,6 @@ DEFAULT_STATUS_CODES: dict[type[Exception], int] = {
     InvalidParameterError: 422,
     CamError: 422,
 }
-
-#: seconds a client is told to wait (``Retry-After``) after a 503
-RETRY_AFTER_S = 1
 
 
 class ServiceBusyError(Exception):

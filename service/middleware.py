@@ -22,9 +22,8 @@ from fastapi.routing import RouteContext, iter_route_contexts
 from starlette.routing import BaseRoute, Match
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
-#: on every answer: browsers must not guess a type other than the one declared (an SVG plot,
-#: a CSV table, an error body)
-SECURITY_HEADERS: list[tuple[bytes, bytes]] = [(b"x-content-type-options", b"nosniff")]
+from service.wire import SECURITY_HEADERS
+
 #: the same logger as the error handlers (service.errors)
 logger = logging.getLogger("camcore.service")
 #: the media type the POST bodies are read as (FastAPI also reads any ``application/*+json``)

@@ -65,9 +65,8 @@ from uvicorn.config import Config
 from uvicorn.protocols.http.httptools_impl import STATUS_LINE, HttpToolsProtocol
 from uvicorn.server import ServerState
 
-from service.errors import RETRY_AFTER_S
-from service.middleware import SECURITY_HEADERS
 from service.settings import Settings
+from service.wire import RETRY_AFTER_S, SECURITY_HEADERS
 
 #: after a refusal, how long what the client still sends is read and discarded before closing [s]
 LINGER_S = 2.0
