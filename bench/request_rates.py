@@ -131,7 +131,7 @@ def cold_start(runs: int) -> dict[str, Any]:
     """Seconds from starting ``python -m service`` (1 worker) to its first 200 on /health ÷ the
     same for a bare FastAPI app under uvicorn, started alternately, each from its bytecode."""
     # as the image does (Dockerfile: compileall camcore service) and pip does for the libraries: with
-    # PYTHONDONTWRITEBYTECODE set, a checkout would otherwise compile its ~300 modules at every start
+    # PYTHONDONTWRITEBYTECODE set, a checkout would otherwise compile its ~200 modules at every start
     for package in ("camcore", "service", "bench"):
         compileall.compile_dir(ROOT / package, quiet=1)
     ours, bare = [], []
