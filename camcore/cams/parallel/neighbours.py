@@ -1,9 +1,14 @@
-"""Near points through a grid of square cells: the roller centres near a set of query points.
+"""Near points: reference points near query points, through a grid of square cells or along chains.
 
-The reference points (roller centres) are sorted by cell once. A block of query points that lie
-close together (a stretch of one envelope) then takes every reference point in the cells its
-bounding box, widened by the reach, overlaps: a few slices of the sorted points, one per column
-of cells, and a dense table of distances block × those points, without gathering pair by pair.
+:class:`CellGrid` sorts the reference points (a polyline's vertices) by cell once; each query then
+takes the points of the 3 × 3 cells round its own, pair by pair.
+
+:class:`Chains` is for points that follow one another along closed paths (the roller centres at
+the sampled cam angles, one chain per roller's path): it wants only where each chain passes
+nearest a query. The points are cut into groups of neighbours along the chains, each held in a
+ball (its middle point, out to its farthest); a block of queries that lie close together (a
+stretch of one envelope) looks only into the groups whose ball comes within reach of one of them,
+each with one point either side, and keeps the points no farther than their neighbours.
 """
 
 from __future__ import annotations
@@ -14,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...curves.base import FloatArray
+from ...deadline import checkpoint
 
 IntArray = NDArray[np.intp]
 
@@ -40,35 +46,6 @@ class CellGrid:
                + np.floor((self.y - self.y0) / self.cell).astype(np.intp))
         self.order = np.argsort(key, kind="stable").astype(np.intp)
         self.start = np.searchsorted(key[self.order], np.arange(self.nx * self.ny + 1)).astype(np.intp)
-
-    def within_box(self, lo_x: float, lo_y: float, hi_x: float, hi_y: float) -> IntArray:
-        """The reference points in the cells a box overlaps (a superset of those inside it), in no
-        particular order.
-
-        Parameters
-        ----------
-        lo_x, lo_y, hi_x, hi_y : float
-            The box [mm].
-
-        Returns
-        -------
-        ndarray
-            Indices of reference points [-].
-
-        References
-        ----------
-        J. L. Bentley, J. H. Friedman, "Data structures for range searching", ACM Computing
-        Surveys 11 (1979) 397-409 (cells: fixed-radius near neighbours).
-        """
-        i0 = max(0, math.floor((lo_x - self.x0) / self.cell))
-        i1 = min(self.nx - 1, math.floor((hi_x - self.x0) / self.cell))
-        j0 = max(0, math.floor((lo_y - self.y0) / self.cell))
-        j1 = min(self.ny - 1, math.floor((hi_y - self.y0) / self.cell))
-        if i0 > i1 or j0 > j1:
-            return np.zeros(0, dtype=np.intp)
-        # one column of cells is one run of keys, so one slice of the sorted points
-        parts = [self.order[self.start[i * self.ny + j0]:self.start[i * self.ny + j1 + 1]] for i in range(i0, i1 + 1)]
-        return np.concatenate(parts)
 
     def pairs(self, qx: FloatArray, qy: FloatArray) -> tuple[IntArray, IntArray]:
         """Every (query, reference) pair in neighbouring cells: all pairs closer than a cell, and some farther.
@@ -136,3 +113,94 @@ def block_order(x: FloatArray, y: FloatArray, cell_mm: float) -> IntArray:
     # a snake through the columns: the next block starts where the last one ended
     iy = np.where(ix % 2 == 1, -iy, iy)
     return np.lexsort((iy, ix)).astype(np.intp)
+
+
+#: points per group of a chain: a group's ball (round its middle point, out to its farthest) rules it
+#: out for a query at one distance
+GROUP = 16
+#: queries per dense table of distances (block × the groups near the block)
+QUERY_BLOCK = 256
+
+
+class Chains:
+    """Runs of reference points (chains), in groups of GROUP neighbours along each, for the points
+    of the chains that pass nearest a query.
+
+    Parameters
+    ----------
+    x, y : ndarray
+        The chains' points, chain after chain [mm].
+    length : int
+        Points per chain [-].
+    """
+
+    def __init__(self, x: FloatArray, y: FloatArray, length: int):
+        self.x, self.y, self.length = x, y, length
+        chains = x.size // length
+        first = np.arange(0, length, GROUP)
+        last = np.minimum(first + GROUP, length) - 1
+        middle = (first + last) // 2
+        cx, cy = x.reshape(chains, length), y.reshape(chains, length)
+        members = np.minimum(first[:, None] + np.arange(GROUP), last[:, None])
+        gx, gy = cx[:, middle], cy[:, middle]
+        self.radius = np.hypot(cx[:, members] - gx[:, :, None], cy[:, members] - gy[:, :, None]).max(axis=2).reshape(-1)
+        self.gx, self.gy = gx.reshape(-1), gy.reshape(-1)
+        self.chain_start = np.repeat(np.arange(chains) * length, first.size)
+        self.group_first = self.chain_start + np.tile(first, chains)
+
+    def minima(self, qx: FloatArray, qy: FloatArray, reach: float) -> tuple[IntArray, IntArray, FloatArray]:
+        """Every point of the chains within reach of a query and no farther from it than its neighbours
+        along its chain (a chain's ends have one neighbour each): where each chain passes nearest each
+        query. A point m is returned for query q when d²(q, m) < reach² and d²(q, m) ≤ d²(q, m ± 1).
+
+        Parameters
+        ----------
+        qx, qy : ndarray
+            The queries [mm].
+        reach : float
+            The largest distance wanted [mm].
+
+        Returns
+        -------
+        (ndarray, ndarray, ndarray)
+            The query's index, the point's index and their squared distance [mm²], ordered by query
+            block, then by the point's index for each query.
+
+        References
+        ----------
+        Bentley and Friedman (1979), cells; the triangle inequality rules out a group of points whose
+        ball stands off a query by more than the reach.
+        """
+        gx, gy, x, y, length = self.gx, self.gy, self.x, self.y, self.length
+        # the bound, widened by far more than the rounding of the distances it compares
+        span = reach + self.radius + 1e-9 * (reach + self.radius)
+        window = np.arange(-1, GROUP + 1)
+        reach2 = reach * reach
+        order = block_order(qx, qy, reach) if qx.size > QUERY_BLOCK else np.arange(qx.size)
+        found: list[tuple[IntArray, IntArray, FloatArray]] = []
+        for b in range(0, qx.size, QUERY_BLOCK):
+            checkpoint()
+            idx = order[b:b + QUERY_BLOCK]
+            bx, by = qx[idx], qy[idx]
+            near = np.flatnonzero((gx + span >= bx.min()) & (gx - span <= bx.max())
+                                  & (gy + span >= by.min()) & (gy - span <= by.max()))
+            if near.size == 0:
+                continue
+            r, k = np.nonzero(np.hypot(gx[near] - bx[:, None], gy[near] - by[:, None]) < span[near])
+            g = near[k]
+            # each group with one point either side, a chain's ends standing beyond everything
+            m = self.group_first[g][:, None] + window
+            start = self.chain_start[g][:, None]
+            inside = (m >= start) & (m < start + length)
+            m = np.where(inside, m, self.group_first[g][:, None])
+            d2 = (x[m] - bx[r][:, None]) ** 2 + (y[m] - by[r][:, None]) ** 2
+            d2[~inside] = np.inf
+            here = d2[:, 1:-1]
+            keep = inside[:, 1:-1] & (here < reach2) & (here <= d2[:, :-2]) & (here <= d2[:, 2:])
+            rows, cols = np.nonzero(keep)
+            found.append((idx[r[rows]], m[rows, cols + 1], here[rows, cols]))
+        if not found:
+            empty = np.zeros(0, dtype=np.intp)
+            return empty, empty, np.zeros(0)
+        return (np.concatenate([f[0] for f in found]), np.concatenate([f[1] for f in found]),
+                np.concatenate([f[2] for f in found]))

@@ -12,14 +12,15 @@ The method, per plate:
 
 1. Every roller's envelope, both sides, at the sampled cam angles (``samples`` per turn; one
    roller followed over ``stops`` turns is a chain that closes, :mod:`.envelope`); the roller
-   centres at those angles sorted into a grid of cells (:mod:`.neighbours`).
+   centres at those angles cut into groups of neighbours along each chain (:mod:`.neighbours`).
 2. Whether a point is free, asked only of the points the walk passes: every passage of a roller
-   within Rr + (the centres' spacing) of it is found through the grid; a passage whose nearest
+   within Rr + (the centres' spacing) of it is found through the groups; a passage whose nearest
    sampled centre is nearer than Rr − ε covers it; one whose nearest sampled centre is no
    nearer than that has its distance minimised exactly between its neighbouring samples (Newton
    on the cam angle, exact derivatives of the path), so a point is free exactly, not only at
    the samples. Newton is spared where the distance's Lipschitz bound already keeps the passage
-   out: between two samples an arc s apart it cannot fall below (d_a + d_b − s)/2.
+   out: between two samples an arc s apart it cannot fall below (d_a + d_b − s)/2, and where
+   another passage's sampled centre already covers the point.
 3. The walk starts at the envelope point nearest the axis that is free (nothing lies nearer the
    axis than the plate's contour, so it is on it) and goes along its envelope the way that keeps
    the plate on its left (counter-clockwise round the axis: along the tangent on side +1, against
@@ -53,13 +54,11 @@ from ...errors import GeometryError
 from .crossings import COVER_SHARE, bracketed_crossings, crossings, distance_minima, feet
 from .envelope import EnvelopePoints, EnvelopeTrack, both_sides, centres, envelope, track
 from .geometry import ParallelCam
-from .neighbours import CellGrid, block_order
+from .neighbours import Chains
 
 #: a crossing is a corner of the plate when the two envelopes' tangents differ by more than this
 #: (a hand-over where two envelopes run together is none: there they part by less than 2ε)
 CORNER_RAD = 1e-6
-#: query points per dense table of distances (block × the centres near the block)
-BLOCK = 32
 #: the walk asks this many points ahead at a time at first, doubling up to the most
 FIRST_CHUNK, MOST_CHUNK = 32, 256
 #: a path's length between two samples over their chord, at most, where the path turns by no more
@@ -154,7 +153,7 @@ class PlateSamples:
         spacing = np.hypot(np.roll(px, -1, axis=1) - px, np.roll(py, -1, axis=1) - py)
         # a path comes nearer than Rr between two samples only if a sample is within Rr + spacing
         self.reach = rr + float(spacing.max()) + self.eps
-        self.grid = CellGrid(self.px, self.py, self.reach)
+        self.chains = Chains(self.px, self.py, self.length)
         # the path's length from each sample to the next, at most (None: a path turns too far within a
         # step to bound it by its chord, and every passage near the band's edge is minimised)
         tx, ty = self.env.tx[0], self.env.ty[0]
@@ -169,48 +168,26 @@ class PlateSamples:
         return np.asarray((np.asarray(chain) + (np.asarray(j) // self.samples) * g) % self.cam.rollers_per_plate,
                           dtype=np.intp)
 
-    def passages(self, qx: FloatArray, qy: FloatArray, own: NDArray[np.intp] | None
+    def passages(self, qx: FloatArray, qy: FloatArray, own: NDArray[np.intp] | None, settle: bool = True
                  ) -> tuple[NDArray[np.intp], NDArray[np.intp], FloatArray, FloatArray]:
         """Each passage of a roller within reach of each point: (point, chain, least distance [mm], its τ
         [rad]). ``own`` (chain·L + j of each point, or None) is the point's own roller position, whose
-        passage touches it at Rr and is left out."""
-        rr, reach, length = self.cam.roller_radius_mm, self.reach, self.length
-        order = block_order(qx, qy, reach) if qx.size > BLOCK else np.arange(qx.size)
-        found: list[tuple[NDArray[np.intp], NDArray[np.intp], FloatArray]] = []
-        reach2 = reach * reach
-        for b in range(0, qx.size, BLOCK):
-            checkpoint()
-            idx = order[b:b + BLOCK]
-            bx, by = qx[idx], qy[idx]
-            x0, x1, y0, y1 = bx.min() - reach, bx.max() + reach, by.min() - reach, by.max() + reach
-            flat = self.grid.within_box(x0, y0, x1, y1)
-            cx, cy = self.px[flat], self.py[flat]
-            box = (cx >= x0) & (cx <= x1) & (cy >= y0) & (cy <= y1)
-            flat = np.sort(flat[box])
-            if flat.size == 0:
-                continue
-            cx, cy = self.px[flat], self.py[flat]
-            d2 = (cx[None, :] - bx[:, None]) ** 2 + (cy[None, :] - by[:, None]) ** 2
-            # a passage's sampled nearest centre: no farther than its neighbours along the chain (a
-            # neighbour not taken is beyond reach)
-            linked = (flat[1:] == flat[:-1] + 1) & (flat[1:] // length == flat[:-1] // length)
-            keep = d2 < reach2
-            keep[:, 1:] &= (d2[:, 1:] <= d2[:, :-1]) | ~linked
-            keep[:, :-1] &= (d2[:, :-1] <= d2[:, 1:]) | ~linked
-            if own is not None:
-                keep &= flat[None, :] != own[idx][:, None]
-            r, m = np.nonzero(keep)
-            found.append((idx[r], flat[m], np.sqrt(d2[r, m])))
-        if not found:
-            empty = np.zeros(0, dtype=np.intp)
-            return empty, empty, np.zeros(0), np.zeros(0)
-        qi: NDArray[np.intp] = np.concatenate([f[0] for f in found])
-        flat = np.concatenate([f[1] for f in found])
-        dist: FloatArray = np.concatenate([f[2] for f in found])
-        chain, j = np.divmod(flat, length)
+        passage touches it at Rr and is left out. ``settle=False`` leaves the sampled distance of a point's
+        passages once one of them covers it (enough to tell whether it is covered)."""
+        rr = self.cam.roller_radius_mm
+        qi, flat, d2 = self.chains.minima(qx, qy, self.reach)
+        if own is not None:
+            mine = flat == own[qi]
+            qi, flat, d2 = qi[~mine], flat[~mine], d2[~mine]
+        dist: FloatArray = np.sqrt(d2)
+        chain, j = np.divmod(flat, self.length)
         tau: FloatArray = self.tau[j]
         # deep inside a band the sample tells; near its edge, the exact minimum between the samples
         edge = dist >= rr - self.eps
+        if not settle:
+            hit = np.zeros(qx.shape, dtype=bool)
+            hit[qi[~edge]] = True
+            edge &= ~hit[qi]
         if edge.any() and self.arc_to_next is not None:
             edge[edge] = self._may_dip(qx[qi[edge]], qy[qi[edge]], chain[edge], j[edge], dist[edge])
         if edge.any():
@@ -253,7 +230,10 @@ class PlateSamples:
         ask = np.flatnonzero(state < 0)
         if ask.size:
             q = jj[ask]
-            hit = self.covered(self.env.x[side, chain, q], self.env.y[side, chain, q], chain * self.length + q)
+            qi, _c, d, _t = self.passages(self.env.x[side, chain, q], self.env.y[side, chain, q],
+                                          chain * self.length + q, settle=False)
+            hit = np.zeros(q.size, dtype=bool)
+            hit[qi[d < self.cam.roller_radius_mm - self.eps]] = True
             state = state.copy()
             state[ask] = np.where(hit, 0, 1)
             self.free[side, chain, q] = state[ask]
