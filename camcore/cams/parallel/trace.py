@@ -359,7 +359,8 @@ class _Walk:
             b_sign = 1 if b_side == 1 else -1
             u = out.entry
             first = (math.floor(u / s.step) + 1) if b_sign > 0 else (math.ceil(u / s.step) - 1)
-            if s.is_free(b_side, b_chain, np.array([first]))[0]:
+            # the first chunk last_free asks, asked with the first point: one pass over the passages, not two
+            if s.is_free(b_side, b_chain, first + b_sign * np.arange(FIRST_CHUNK))[0]:
                 last = self.last_free(b_side, b_chain, first, b_sign)
                 if last is None:
                     raise TooCoarse(f"Plate {s.plate}: its contour could not be followed round the cam axis.")
