@@ -23,7 +23,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...curves.base import FloatArray
-from .envelope import envelope
+from .envelope import EnvelopePoints, envelope
+from .geometry import ParallelCam
 from .neighbours import CellGrid
 from .trace import PlateContour
 
@@ -73,6 +74,22 @@ def _piece_angles(contour: PlateContour, step: float) -> list[FloatArray]:
     return out
 
 
+def _envelope_reusing(cam: ParallelCam, alpha: FloatArray, side: FloatArray, tau: FloatArray, known: EnvelopePoints,
+                      known_tau: FloatArray, source: NDArray[np.intp]) -> EnvelopePoints:
+    """:func:`envelope` at (α₀, side, τ), each point whose τ is the same float as ``known_tau[source]``
+    taken from ``known`` there (its α₀ and side are the same: it is the same point) and only the others
+    computed."""
+    old = known_tau[source]
+    fresh = np.flatnonzero((tau != old) | (np.signbit(tau) != np.signbit(old)))
+    new = envelope(cam, alpha[fresh], side[fresh], tau[fresh])
+    columns = {}
+    for name in EnvelopePoints.__dataclass_fields__:
+        column = getattr(known, name)[source]
+        column[fresh] = getattr(new, name)
+        columns[name] = column
+    return EnvelopePoints(**columns)
+
+
 def contour_points(contour: PlateContour, step: float) -> ContourPoints:
     """A plate's contour as points (module notes): exact, within δ of the contour between them.
 
@@ -117,33 +134,39 @@ def contour_points(contour: PlateContour, step: float) -> ContourPoints:
     frac = (np.arange(int(k.sum())) - np.repeat(np.cumsum(k) - k, k)) / np.repeat(k, k)
     tau_all = tau[owner] + frac * (tau[owner + 1] - tau[owner])
     piece = which[owner]
-    p = envelope(cam, alpha[owner], side[owner], tau_all)
+    p = _envelope_reusing(cam, alpha[owner], side[owner], tau_all, e, tau, owner)
     # where the envelope's speed varies within a step (a roller all but stopping) the even cuts
-    # are uneven in length: each chord whose middle stands off by more than δ is cut again
+    # are uneven in length: each chord whose middle stands off by more than δ is cut again (only the
+    # chords cut in the pass before are measured again: the others' middles are within δ)
+    todo = np.arange(tau_all.size)
     for _ in range(REFINE_PASSES):
         nxt_tau = np.append(tau_all[1:], np.nan)
         inner = np.append(piece[1:] == piece[:-1], False)
         # a piece's last chord runs to its end, the next piece's start (the same point)
         ends = np.flatnonzero(~inner)
         nxt_tau[ends] = [contour.pieces[k].tau_end_rad for k in piece[ends]]
-        mid = envelope(cam, alpha[owner], side[owner], 0.5 * (tau_all + nxt_tau))
+        mid = envelope(cam, alpha[owner[todo]], side[owner[todo]], 0.5 * (tau_all[todo] + nxt_tau[todo]))
         nx = np.append(p.x[1:], p.x[0])
         ny = np.append(p.y[1:], p.y[0])
         end_pts = envelope(cam, alpha[owner][ends], side[owner][ends], nxt_tau[ends])
         nx[ends], ny[ends] = end_pts.x, end_pts.y
-        cx, cy = nx - p.x, ny - p.y
+        x0, y0 = p.x[todo], p.y[todo]
+        cx, cy = nx[todo] - x0, ny[todo] - y0
         norm = np.hypot(cx, cy)
         with np.errstate(divide="ignore", invalid="ignore"):
-            off = np.abs((mid.x - p.x) * cy - (mid.y - p.y) * cx) / norm
-        off = np.where(norm > 0, off, np.hypot(mid.x - p.x, mid.y - p.y))
-        more = np.where(off > chord, np.minimum(np.ceil(np.sqrt(off / chord) * 1.5), MOST_CUTS), 1).astype(np.intp)
+            off = np.abs((mid.x - x0) * cy - (mid.y - y0) * cx) / norm
+        off = np.where(norm > 0, off, np.hypot(mid.x - x0, mid.y - y0))
+        more = np.ones(tau_all.size, dtype=np.intp)
+        more[todo] = np.where(off > chord, np.minimum(np.ceil(np.sqrt(off / chord) * 1.5), MOST_CUTS), 1)
         if (more == 1).all():
             break
         frac = (np.arange(int(more.sum())) - np.repeat(np.cumsum(more) - more, more)) / np.repeat(more, more)
         base = np.repeat(np.arange(tau_all.size), more)
+        last_tau = tau_all
         tau_all = tau_all[base] + frac * (nxt_tau[base] - tau_all[base])
         owner, piece = owner[base], piece[base]
-        p = envelope(cam, alpha[owner], side[owner], tau_all)
+        p = _envelope_reusing(cam, alpha[owner], side[owner], tau_all, p, last_tau, base)
+        todo = np.flatnonzero(more[base] > 1)
     g = cam.rollers_per_plate // cam.stops
     first = np.array([pc.roller for pc in contour.pieces])[piece]
     turns = np.floor(tau_all / (2 * math.pi))
