@@ -155,6 +155,21 @@ def test_the_chords_stay_within_the_chord_tolerance(traced: tuple[Case, Parallel
         assert 0 < worst <= delta, (worst, delta)
 
 
+def test_each_point_is_its_envelope_at_its_cam_angle_to_the_bit(traced: tuple[Case, ParallelResult]) -> None:
+    """contour_points takes a point already computed at the same cam angle rather than computing it
+    again: every point is still the envelope at its τ, the same floats."""
+    case, result = traced
+    finer = trace_factor(case.samples)
+    for contour in result.contours:
+        pts = contour_points(contour, 2 * math.pi / (case.samples * finer))
+        for k in np.unique(pts.piece):
+            mine = pts.piece == k
+            e = contour.at(int(k), pts.tau[mine])
+            for got, want in ((pts.x, e.x), (pts.y, e.y), (pts.pressure_deg, e.pressure_deg), (pts.drives, e.drives),
+                              (pts.rho, e.rho)):
+                assert np.array_equal(got[mine], want)
+
+
 def test_the_contour_is_the_shapely_one_within_its_error() -> None:
     """The plates as Shapely's boolean operations drew them (8 path points per sampled cam angle) and
     the exact contour are the same curve: each polyline's points lie within the other's chord
