@@ -17,7 +17,7 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 from numpy.typing import NDArray
@@ -83,7 +83,7 @@ def _envelope_reusing(cam: ParallelCam, alpha: FloatArray, side: FloatArray, tau
     fresh = np.flatnonzero((tau != old) | (np.signbit(tau) != np.signbit(old)))
     new = envelope(cam, alpha[fresh], side[fresh], tau[fresh])
     columns = {}
-    for name in EnvelopePoints.__dataclass_fields__:
+    for name in (f.name for f in fields(EnvelopePoints)):
         column = getattr(known, name)[source]
         column[fresh] = getattr(new, name)
         columns[name] = column

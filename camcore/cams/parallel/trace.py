@@ -172,8 +172,8 @@ class PlateSamples:
                  ) -> tuple[NDArray[np.intp], NDArray[np.intp], FloatArray, FloatArray]:
         """Each passage of a roller within reach of each point: (point, chain, least distance [mm], its τ
         [rad]). ``own`` (chain·L + j of each point, or None) is the point's own roller position, whose
-        passage touches it at Rr and is left out. ``settle=False`` leaves the sampled distance of a point's
-        passages once one of them covers it (enough to tell whether it is covered)."""
+        passage touches it at Rr and is left out. ``settle=False`` leaves the sampled distances of a point's
+        passages once one of its sampled centres covers it (enough to tell whether it is covered)."""
         rr = self.cam.roller_radius_mm
         qi, flat, d2 = self.chains.minima(qx, qy, self.reach)
         if own is not None:
@@ -216,9 +216,10 @@ class PlateSamples:
         low = np.minimum(d_before + dist - self.arc_to_next[before], dist + d_after - self.arc_to_next[here]) * 0.5
         return low < self.cam.roller_radius_mm - self.eps
 
-    def covered(self, qx: FloatArray, qy: FloatArray, own: NDArray[np.intp] | None) -> NDArray[np.bool_]:
-        """Whether a roller comes nearer than Rr − ε to each point [-]."""
-        qi, _c, d, _t = self.passages(qx, qy, own)
+    def covered(self, qx: FloatArray, qy: FloatArray, own: NDArray[np.intp] | None, settle: bool = True
+                ) -> NDArray[np.bool_]:
+        """Whether a roller comes nearer than Rr − ε to each point [-] (``settle``: :meth:`passages`)."""
+        qi, _c, d, _t = self.passages(qx, qy, own, settle)
         out = np.zeros(qx.shape, dtype=bool)
         out[qi[d < self.cam.roller_radius_mm - self.eps]] = True
         return out
@@ -230,10 +231,8 @@ class PlateSamples:
         ask = np.flatnonzero(state < 0)
         if ask.size:
             q = jj[ask]
-            qi, _c, d, _t = self.passages(self.env.x[side, chain, q], self.env.y[side, chain, q],
-                                          chain * self.length + q, settle=False)
-            hit = np.zeros(q.size, dtype=bool)
-            hit[qi[d < self.cam.roller_radius_mm - self.eps]] = True
+            hit = self.covered(self.env.x[side, chain, q], self.env.y[side, chain, q], chain * self.length + q,
+                               settle=False)
             state = state.copy()
             state[ask] = np.where(hit, 0, 1)
             self.free[side, chain, q] = state[ask]
