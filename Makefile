@@ -25,9 +25,10 @@ serve: $(VENV)/.installed
 test-tools:
 	VENV=$(VENV) scripts/install_test_tools.sh
 
-# the gates: ruff and mypy (with the pydantic plugin, pyproject.toml) clean on the code
+# the gates: ruff clean on every Python file (the code, its tests, the bench, the scripts, the
+# clients' recipes), mypy (with the pydantic plugin, pyproject.toml) on the code
 lint: $(VENV)/.installed
-	$(VENV)/bin/ruff check camcore service
+	$(VENV)/bin/ruff check .
 	$(VENV)/bin/mypy camcore service
 
 # the tests that time or weigh the machine (bench ratios, load with wrk, the memory soak, the image's

@@ -12,6 +12,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Self
 
 import httpx
 
@@ -55,7 +56,7 @@ class Server:
                                      stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
         self.url = f"http://127.0.0.1:{self.port}"
 
-    def __enter__(self) -> Server:
+    def __enter__(self) -> Self:
         deadline = time.monotonic() + 60
         while time.monotonic() < deadline:
             if self.proc.poll() is not None:
@@ -90,14 +91,15 @@ def wrk(url: str, seconds: int, lua: str | None = None) -> dict[str, float]:
         cmd += ["-s", lua]
     if shutil.which("taskset"):
         cmd = ["taskset", "-c", "1", *cmd]
-    out = subprocess.run([*cmd, url], capture_output=True, text=True, timeout=seconds + 60).stdout
+    out = subprocess.run([*cmd, url], capture_output=True, text=True, timeout=seconds + 60, check=False).stdout
     rps = re.search(r"Requests/sec:\s*([\d.]+)", out)
     p99 = re.search(r"^\s*99%\s+([\d.]+)(us|ms|s)\s*$", out, re.MULTILINE)
     errors = re.search(r"Non-2xx or 3xx responses:\s*(\d+)", out)
     if not rps or not p99:
         raise RuntimeError(f"could not read wrk output:\n{out}")
     if errors:
-        raise RuntimeError(f"wrk saw error responses:\n{out}\n{lua and open(lua).read()}")
+        script = Path(lua).read_text() if lua else None
+        raise RuntimeError(f"wrk saw error responses:\n{out}\n{script}")
     return {"rps": float(rps.group(1)), "p99_ms": float(p99.group(1)) * _UNITS[p99.group(2)]}
 
 

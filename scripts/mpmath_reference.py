@@ -39,6 +39,8 @@ from pathlib import Path
 from mpmath import cos, findroot, mp, mpf, nstr, pi, sin
 
 mp.dps = 40
+#: the start speed V0 of a curve that starts at rest
+AT_REST = mpf(0)
 
 OUT = Path(__file__).resolve().parent.parent / "tests" / "data" / "mp_reference.csv"
 DIGITS = 25
@@ -50,7 +52,7 @@ OFFSET = mpf("1e-9")
 class MakinoCurve:
     """Subroutine CURVE, common part (lines 75-124) and variable part (lines 146-221)."""
 
-    def __init__(self, no: int, t: list, ratio=None, amp=None, amm=None, v0=mpf(0)):
+    def __init__(self, no: int, t: list, ratio=None, amp=None, amm=None, v0=AT_REST):
         # lines 16-25: defaults T0 = 0, T7 = 1, V0 = V7 = 0, S0 = 0, S7 = 1, RATIO = 1
         self.T = [mpf(x) for x in t]
         T0, T1, T2, T3, T4, T5, T6, T7 = self.T

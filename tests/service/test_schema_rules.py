@@ -434,8 +434,8 @@ RULES: dict[str, tuple[list[tuple[str, dict[str, Any]]], list[tuple[tuple[str, d
           "a law in a program runs from s = 0 to 1")]),
     "a move gives to (absolute; null = solved) or stroke (relative), not both": (
         [program({"span_deg": 60, "stroke": 10, "curve": POLY})],
-        [(program({"span_deg": 60, "to": 10, "stroke": 10, "curve": POLY}), "give to (absolute; null = solved) or "
-          "stroke (relative), not both"),
+        [(program({"span_deg": 60, "to": 10, "stroke": 10, "curve": POLY}), ("give to (absolute; null = solved) or "
+                                                                             "stroke (relative), not both")),
          (program({"span_deg": 60, "curve": POLY}), "a move needs to (an absolute end position, or null to solve it)")]),
     "a dwell holds its position; give it no to, stroke or curve": (
         [program({"span_deg": 60, "type": "dwell"}, samples=None)],

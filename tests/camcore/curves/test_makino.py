@@ -8,6 +8,7 @@ appendix 1 (subroutine CURVE, Fortran line numbers quoted), appendix 3-1 and 3-2
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -176,7 +177,7 @@ def superposition_amp(t: tuple[float, ...], m: float, v0: float, s0: float, s7: 
     a = unit_acceleration(t, 1.0, m)
     nodes, weights = np.polynomial.legendre.leggauss(30)
     total = 0.0
-    for lo, hi in zip(t[:-1], t[1:]):
+    for lo, hi in itertools.pairwise(t):
         if hi > lo:
             x = lo + (hi - lo) * (nodes + 1) / 2
             total += (hi - lo) / 2 * np.sum(weights * a(x) * (t[7] - x))
@@ -366,9 +367,8 @@ def test_cutting_feed_ends_are_the_built_curves_own_ends() -> None:
     import numpy as np
 
     from camcore.curves.makino import cutting_feed, cutting_feed_ends
-    from camcore.motion.laws import normalised_ends
-
     from camcore.curves.universal import MIN_SECTION
+    from camcore.motion.laws import normalised_ends
 
     near_ends = [0.5 ** k for k in range(1, 29)] + [1.0 - 0.5 ** k for k in range(1, 29)]  # down to 3.7e-9
     for t4 in np.linspace(0.0, 0.999, 2000)[1:].tolist() + np.linspace(0.99, 1.0 - 1e-8, 2000).tolist() + near_ends:

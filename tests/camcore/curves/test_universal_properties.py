@@ -30,6 +30,7 @@ Bounded for CI (``HYPOTHESIS_CURVE_EXAMPLES``, default 60 per test), no deadline
 
 from __future__ import annotations
 
+import itertools
 import os
 
 import numpy as np
@@ -69,7 +70,7 @@ def break_points(draw: st.DrawFn) -> tuple[float, ...]:
     t = (0.0, *inner, 1.0)
     assume(t[3] - t[0] >= MIN_SPAN and t[7] - t[4] >= MIN_SPAN)
     # sections are empty or at least MIN_SECTION long (shorter ones are refused: see below)
-    assume(all(b == a or b - a >= MIN_SECTION for a, b in zip(t, t[1:])))
+    assume(all(b == a or b - a >= MIN_SECTION for a, b in itertools.pairwise(t)))
     return t
 
 

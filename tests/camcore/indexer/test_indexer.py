@@ -107,7 +107,7 @@ def test_motion_table_columns() -> None:
     # MS is symmetric: half the stroke (30°) at half the index; full 60° at the end.
     np.testing.assert_allclose(tab.output_angle_deg[[0, 2, 4]], [0, 30, 60], atol=1e-12)
     # dθout/dθin = (h/θh)·V = (60/270)·V
-    s, v, a, j = MS.derivatives(np.array([0.25]), 3)
+    _s, v, _a, _j = MS.derivatives(np.array([0.25]), 3)
     assert tab.dout_din[1] == pytest.approx(60 / 270 * v[0], rel=1e-14)
     assert tab.omega_rad_s[1] == pytest.approx(math.radians(60) / 0.75 * v[0], rel=1e-14)
     assert set(tab.columns()) >= {
@@ -369,22 +369,22 @@ def test_accuracy_in_sizing() -> None:
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
-        (dict(stops=0, indexing_angle_deg=270, speed_rpm=60), r"stops must be a whole number ≥ 1, got 0"),
-        (dict(stops=2.5, indexing_angle_deg=270, speed_rpm=60), r"stops must be a whole number ≥ 1"),
-        (dict(indexing_angle_deg=270, speed_rpm=60), r"exactly one of stops .* and swing_angle_deg"),
-        (dict(stops=6, swing_angle_deg=60, indexing_angle_deg=270, speed_rpm=60), r"exactly one of stops"),
-        (dict(stops=6, indexing_angle_deg=0, speed_rpm=60), r"indexing_angle_deg must satisfy 0 < θh ≤ 360, got 0"),
-        (dict(stops=6, indexing_angle_deg=361, speed_rpm=60), r"indexing_angle_deg must satisfy 0 < θh ≤ 360"),
-        (dict(stops=6, indexing_angle_deg=float("nan"), speed_rpm=60), r"indexing_angle_deg must be a finite"),
-        (dict(stops=6, indexing_angle_deg=200, dwells=2, speed_rpm=60),
+        ({"stops": 0, "indexing_angle_deg": 270, "speed_rpm": 60}, r"stops must be a whole number ≥ 1, got 0"),
+        ({"stops": 2.5, "indexing_angle_deg": 270, "speed_rpm": 60}, r"stops must be a whole number ≥ 1"),
+        ({"indexing_angle_deg": 270, "speed_rpm": 60}, r"exactly one of stops .* and swing_angle_deg"),
+        ({"stops": 6, "swing_angle_deg": 60, "indexing_angle_deg": 270, "speed_rpm": 60}, r"exactly one of stops"),
+        ({"stops": 6, "indexing_angle_deg": 0, "speed_rpm": 60}, r"indexing_angle_deg must satisfy 0 < θh ≤ 360, got 0"),
+        ({"stops": 6, "indexing_angle_deg": 361, "speed_rpm": 60}, r"indexing_angle_deg must satisfy 0 < θh ≤ 360"),
+        ({"stops": 6, "indexing_angle_deg": float("nan"), "speed_rpm": 60}, r"indexing_angle_deg must be a finite"),
+        ({"stops": 6, "indexing_angle_deg": 200, "dwells": 2, "speed_rpm": 60},
          r"θt = θh·z must not exceed 360°.*200.0 × 2 = 400.0"),
-        (dict(stops=6, indexing_angle_deg=270, dwells=0, speed_rpm=60), r"dwells must be a whole number ≥ 1"),
-        (dict(stops=6, indexing_angle_deg=270), r"exactly one of speed_rpm .* and cycle_time_s"),
-        (dict(stops=6, indexing_angle_deg=270, speed_rpm=60, cycle_time_s=1.0), r"exactly one of speed_rpm"),
-        (dict(stops=6, indexing_angle_deg=270, speed_rpm=-1), r"speed_rpm must be greater than 0"),
-        (dict(stops=6, indexing_angle_deg=270, cycle_time_s=0), r"cycle_time_s must be greater than 0"),
-        (dict(swing_angle_deg=400, indexing_angle_deg=270, speed_rpm=60), r"swing_angle_deg must satisfy 0 < ψ ≤ 360"),
-        (dict(stops=6, indexing_angle_deg=270, speed_rpm=60, input_stop_time_s=-1),
+        ({"stops": 6, "indexing_angle_deg": 270, "dwells": 0, "speed_rpm": 60}, r"dwells must be a whole number ≥ 1"),
+        ({"stops": 6, "indexing_angle_deg": 270}, r"exactly one of speed_rpm .* and cycle_time_s"),
+        ({"stops": 6, "indexing_angle_deg": 270, "speed_rpm": 60, "cycle_time_s": 1.0}, r"exactly one of speed_rpm"),
+        ({"stops": 6, "indexing_angle_deg": 270, "speed_rpm": -1}, r"speed_rpm must be greater than 0"),
+        ({"stops": 6, "indexing_angle_deg": 270, "cycle_time_s": 0}, r"cycle_time_s must be greater than 0"),
+        ({"swing_angle_deg": 400, "indexing_angle_deg": 270, "speed_rpm": 60}, r"swing_angle_deg must satisfy 0 < ψ ≤ 360"),
+        ({"stops": 6, "indexing_angle_deg": 270, "speed_rpm": 60, "input_stop_time_s": -1},
          r"input_stop_time_s must be 0 or more"),
     ],
 )

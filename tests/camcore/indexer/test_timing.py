@@ -105,7 +105,7 @@ def test_sizing_of_out_and_back_against_a_dense_evaluation() -> None:
     unit = chart(move(120, 90), dwell(60), move(120, -90, MS_BACK), dwell(60))
     result = size(unit, LOAD)
     x = np.linspace(0, 360, 720_001)
-    s, v, a = unit.program.derivatives(x, 2)
+    _s, v, a = unit.program.derivatives(x, 2)
     _, ka, _ = unit.scales
     resisting = LOAD.total_friction_torque_nm + LOAD.work_torque_nm
     f = v * (LOAD.total_inertia_kgm2 * ka * a + resisting * np.sign(v))

@@ -25,8 +25,8 @@ from camcore.export import TOOLPATH_FORMATS, ToolpathFile, toolpath_dxf, toolpat
 from camcore.profile import Follower, Segment, compute_profile, make_cam
 from camcore.toolpath import OffsetCurve, compute_toolpath
 from camcore.toolpath.fit import Budget, _farthest_fit, _greedy
-from camcore.toolpath.measure import Span, measure
 from camcore.toolpath.geometry import Element, biarc
+from camcore.toolpath.measure import Span, measure
 from tests.toolpath_reference import cutting_polylines, densify, distances_to_polyline, max_sagitta, parse_gcode
 
 MS = camcore.named_curve("MS")

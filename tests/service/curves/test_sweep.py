@@ -11,8 +11,8 @@ import httpx
 import pytest
 
 from service.settings import Settings
-from tests.service.apps import app_client
 from tests.camcore.curves.test_makino import APPENDIX_3_2, APPENDIX_3_2_MISPRINTS, HALF_DIGIT
+from tests.service.apps import app_client
 
 pytestmark = pytest.mark.anyio
 
