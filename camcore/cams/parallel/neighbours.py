@@ -134,10 +134,12 @@ class Chains:
         The chains' points, chain after chain [mm].
     length : int
         Points per chain [-].
+    reach : float
+        The largest distance wanted from a query [mm].
     """
 
-    def __init__(self, x: FloatArray, y: FloatArray, length: int):
-        self.x, self.y, self.length = x, y, length
+    def __init__(self, x: FloatArray, y: FloatArray, length: int, reach: float):
+        self.x, self.y, self.length, self.reach = x, y, length, reach
         chains = x.size // length
         first = np.arange(0, length, GROUP)
         last = np.minimum(first + GROUP, length) - 1
@@ -145,12 +147,14 @@ class Chains:
         cx, cy = x.reshape(chains, length), y.reshape(chains, length)
         members = np.minimum(first[:, None] + np.arange(GROUP), last[:, None])
         gx, gy = cx[:, middle], cy[:, middle]
-        self.radius = np.hypot(cx[:, members] - gx[:, :, None], cy[:, members] - gy[:, :, None]).max(axis=2).reshape(-1)
+        radius = np.hypot(cx[:, members] - gx[:, :, None], cy[:, members] - gy[:, :, None]).max(axis=2).reshape(-1)
+        # the bound, widened by far more than the rounding of the distances it compares
+        self.span = reach + radius + 1e-9 * (reach + radius)
         self.gx, self.gy = gx.reshape(-1), gy.reshape(-1)
         self.chain_start = np.repeat(np.arange(chains) * length, first.size)
         self.group_first = self.chain_start + np.tile(first, chains)
 
-    def minima(self, qx: FloatArray, qy: FloatArray, reach: float) -> tuple[IntArray, IntArray, FloatArray]:
+    def minima(self, qx: FloatArray, qy: FloatArray) -> tuple[IntArray, IntArray, FloatArray]:
         """Every point of the chains within reach of a query and no farther from it than its neighbours
         along its chain (a chain's ends have one neighbour each): where each chain passes nearest each
         query. A point m is returned for query q when d²(q, m) < reach² and d²(q, m) ≤ d²(q, m ± 1).
@@ -159,8 +163,6 @@ class Chains:
         ----------
         qx, qy : ndarray
             The queries [mm].
-        reach : float
-            The largest distance wanted [mm].
 
         Returns
         -------
@@ -173,12 +175,10 @@ class Chains:
         Bentley and Friedman (1979), cells; the triangle inequality rules out a group of points whose
         ball stands off a query by more than the reach.
         """
-        gx, gy, x, y, length = self.gx, self.gy, self.x, self.y, self.length
-        # the bound, widened by far more than the rounding of the distances it compares
-        span = reach + self.radius + 1e-9 * (reach + self.radius)
+        gx, gy, x, y, length, span = self.gx, self.gy, self.x, self.y, self.length, self.span
         window = np.arange(-1, GROUP + 1)
-        reach2 = reach * reach
-        order = block_order(qx, qy, reach) if qx.size > QUERY_BLOCK else np.arange(qx.size)
+        reach2 = self.reach * self.reach
+        order = block_order(qx, qy, self.reach) if qx.size > QUERY_BLOCK else np.arange(qx.size)
         found: list[tuple[IntArray, IntArray, FloatArray]] = []
         for b in range(0, qx.size, QUERY_BLOCK):
             checkpoint()

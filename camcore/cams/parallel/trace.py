@@ -153,7 +153,7 @@ class PlateSamples:
         spacing = np.hypot(np.roll(px, -1, axis=1) - px, np.roll(py, -1, axis=1) - py)
         # a path comes nearer than Rr between two samples only if a sample is within Rr + spacing
         self.reach = rr + float(spacing.max()) + self.eps
-        self.chains = Chains(self.px, self.py, self.length)
+        self.chains = Chains(self.px, self.py, self.length, self.reach)
         # the path's length from each sample to the next, at most (None: a path turns too far within a
         # step to bound it by its chord, and every passage near the band's edge is minimised)
         tx, ty = self.env.tx[0], self.env.ty[0]
@@ -175,7 +175,7 @@ class PlateSamples:
         passage touches it at Rr and is left out. ``settle=False`` leaves the sampled distances of a point's
         passages once one of its sampled centres covers it (enough to tell whether it is covered)."""
         rr = self.cam.roller_radius_mm
-        qi, flat, d2 = self.chains.minima(qx, qy, self.reach)
+        qi, flat, d2 = self.chains.minima(qx, qy)
         if own is not None:
             mine = flat == own[qi]
             qi, flat, d2 = qi[~mine], flat[~mine], d2[~mine]
@@ -268,20 +268,16 @@ class _Walk:
         raise self.reach
 
     def last_free(self, side: int, chain: int, first: int, sign: int) -> int | None:
-        """From a free sample ``first``, the last of the free ones that follow it the walk's way
-        (an integer past the chain's ends if need be); None: free all the way round."""
+        """From sample ``first``, the last of the free ones that run from it the walk's way (an integer
+        past the chain's ends if need be): ``first − sign`` when ``first`` itself is covered; None: free
+        all the way round."""
         s = self.s
         done, size = 0, FIRST_CHUNK
         while done < s.length:
             ks = first + sign * (done + np.arange(min(size, s.length - done)))
             ok = s.is_free(side, chain, ks)
             if not ok.all():
-                miss = int(np.argmin(ok))
-                if miss == 0 and done == 0:
-                    raise TooCoarse(f"Plate {s.plate}: three rollers' envelopes meet within one sampled cam angle "
-                                        f"(near {math.degrees(first * s.step % (2 * math.pi)):.4g}°); sample the "
-                                        "turn more finely.")
-                return int(ks[miss] - sign)
+                return int(ks[int(np.argmin(ok))] - sign)
             done += ks.size
             size = min(2 * size, MOST_CHUNK)
         return None
@@ -358,16 +354,14 @@ class _Walk:
             b_sign = 1 if b_side == 1 else -1
             u = out.entry
             first = (math.floor(u / s.step) + 1) if b_sign > 0 else (math.ceil(u / s.step) - 1)
-            # the first chunk last_free asks, asked with the first point: one pass over the passages, not two
-            if s.is_free(b_side, b_chain, first + b_sign * np.arange(FIRST_CHUNK))[0]:
-                last = self.last_free(b_side, b_chain, first, b_sign)
-                if last is None:
-                    raise TooCoarse(f"Plate {s.plate}: its contour could not be followed round the cam axis.")
-                nxt = self.exit(b_side, b_chain, last * s.step, last + b_sign, b_sign)
-                key = (b_side, b_chain, last % s.length)
-            else:  # a piece shorter than a sample step: it leaves before the next sample
+            last = self.last_free(b_side, b_chain, first, b_sign)
+            if last is None:
+                raise TooCoarse(f"Plate {s.plate}: its contour could not be followed round the cam axis.")
+            if last == first - b_sign:  # a piece shorter than a sample step: it leaves before the next sample
                 nxt = self.exit(b_side, b_chain, u, first, b_sign)
-                key = (b_side, b_chain, (first - b_sign) % s.length)
+            else:
+                nxt = self.exit(b_side, b_chain, last * s.step, last + b_sign, b_sign)
+            key = (b_side, b_chain, last % s.length)
             pieces.append(Piece(int(s.roller(b_chain, 0)), float(s.alpha0[b_chain]), b_sign, u, nxt.tau, out.corner))
             if key in seen:
                 return pieces[seen[key] + 1:]

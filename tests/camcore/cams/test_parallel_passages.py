@@ -94,14 +94,14 @@ def test_the_chains_nearest_passes_are_the_brute_force_ones():
     x, y = (r * np.cos(t)).reshape(-1), (r * np.sin(t)).reshape(-1)
     qx, qy = rng.uniform(-55, 55, 2 * QUERY_BLOCK + 17), rng.uniform(-55, 55, 2 * QUERY_BLOCK + 17)
     reach = 9.0
-    qi, m, d2 = Chains(x, y, length).minima(qx, qy, reach)
+    qi, m, d2 = Chains(x, y, length, reach).minima(qx, qy)
     found = {(int(a), int(b), float(c)) for a, b, c in zip(qi, m, d2)}
     assert len(found) == qi.size  # no pair twice
     expected = _brute_minima(qx, qy, x, y, length, reach)
     assert len(expected) > 300  # many queries have passes within reach, some several
     assert found == expected  # the same pairs and the same squared distances, bit for bit
     # one query: its passes in the order of the centres (the walk's exits take the first of equals)
-    one_i, one_m, _ = Chains(x, y, length).minima(qx[:1], qy[:1], 30.0)
+    one_i, one_m, _ = Chains(x, y, length, 30.0).minima(qx[:1], qy[:1])
     assert one_m.size > 1 and np.all(np.diff(one_m) > 0) and np.all(one_i == 0)
 
 
